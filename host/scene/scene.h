@@ -1,0 +1,65 @@
+// The scene on the host: flattened world-space triangles, materials, textures and cameras,
+// as produced by the glTF loader and consumed by the BVH builder and the GPU upload.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "shared/host_device.h"
+
+namespace pmcr {
+
+// A pinhole camera in world space. forward/up/right are orthonormal, right = cross(forward, up).
+struct Camera {
+    std::string name;
+    glm::vec3 position{0.0f};
+    glm::vec3 forward{0.0f, 0.0f, -1.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    glm::vec3 right{1.0f, 0.0f, 0.0f};
+    float yfov = 0.8f;    // vertical field of view, radians
+    float aspect = 0.0f;  // width / height from the file; 0 when the file does not say
+};
+
+// An 8-bit sRGB texture (baseColorTexture), RGBA packed little-endian (R in the low byte).
+struct Texture {
+    std::string name;
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<uint32_t> rgba8;
+};
+
+struct Scene {
+    std::filesystem::path path;            // the file it was loaded from
+    std::vector<gpu::Vertex> vertices;     // world space
+    std::vector<gpu::Triangle> triangles;  // all triangles, world space, front face = CCW winding
+    std::vector<gpu::Material> materials;
+    std::vector<std::string> materialNames;
+    std::vector<Texture> textures;
+    std::vector<Camera> cameras;           // cameras in node order; never empty after loading
+    int defaultWidth = 0;                  // image size the scene asks for (extras), 0 = pmcr default
+    int defaultHeight = 0;
+    glm::vec3 boundsMin{0.0f};
+    glm::vec3 boundsMax{0.0f};
+};
+
+// Emitters: every triangle whose material has non-zero emission, in a Walker alias table over
+// emitted power (area * luminance(Le) * pi * sides), and the total power.
+struct EmitterTable {
+    std::vector<gpu::Emitter> emitters;
+    float totalPower = 0.0f;
+};
+EmitterTable buildEmitters(const Scene& scene);
+
+// Selection probability of an emitter triangle as the kernels compute it for MIS:
+// power of the triangle / total power. Shared formula: see shaders/common/lights.glsl.
+float emitterPower(const Scene& scene, uint32_t triangle);
+
+// Recomputes bounds; throws pmcr::Error naming scene.path for NaN/Inf positions, no triangles
+// or no emitters; drops zero-area triangles with one warning.
+void finalizeScene(Scene& scene);
+
+float luminance(const glm::vec3& rgb);  // Rec. 709 / sRGB primaries
+
+}  // namespace pmcr

@@ -1,0 +1,25 @@
+// Descriptor bindings and workgroup sizes. All compute pipelines share one pipeline layout:
+//   set 0: the scene (read-only, uploaded once);
+//   set 1: the integrator's working buffers (film, sample lists, path records, statistics);
+//   push constants: at most PUSH_CONSTANT_BYTES per dispatch.
+// A kernel declares only the bindings it uses; unused ones may stay unwritten.
+
+PMCR_CONST uint SCENE_SET = 0;
+PMCR_CONST uint BINDING_SCENE_INFO = 0;      // SceneInfo (uniform)
+PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[]
+PMCR_CONST uint BINDING_TRIANGLES = 2;       // Triangle[]            (original order)
+PMCR_CONST uint BINDING_ISECT_TRIANGLES = 3; // IsectTriangle[]       (BVH leaf order)
+PMCR_CONST uint BINDING_BVH_NODES = 4;       // BvhNode[]
+PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[]
+PMCR_CONST uint BINDING_EMITTERS = 6;        // Emitter[]             (alias table over emitters)
+PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]
+PMCR_CONST uint BINDING_TEXELS = 8;          // uint[] (RGBA8, sRGB-encoded colour)
+PMCR_CONST uint SCENE_BINDING_COUNT = 9;
+
+PMCR_CONST uint WORK_SET = 1;
+PMCR_CONST uint WORK_BINDING_COUNT = 16;     // storage buffers 0..15, meaning set per kernel
+
+PMCR_CONST uint PUSH_CONSTANT_BYTES = 128;
+
+// 1D workgroup size of every kernel. 64 = 8 subgroups of 8 on lavapipe, 2 warps on NVIDIA.
+PMCR_CONST uint WORKGROUP_SIZE = 64;

@@ -1,0 +1,46 @@
+// Path records: what the path generation kernel writes so that later kernels (ERPT, PMC-ER)
+// can split a path tracer sample into its light paths, perturb them and re-evaluate them.
+//
+// A path tracer sample with next-event estimation is a tree: the eye subpath x1..xn (x0 is the
+// pinhole, implied by the record's raster position) and, at every non-specular vertex xk, one
+// explicit connection to a light point. It therefore holds up to two light paths per vertex:
+//   implicit path  x0 x1 .. xk          (xk is an emitter hit by BSDF sampling)
+//   explicit path  x0 x1 .. xk  y_k     (y_k sampled on an emitter from xk)
+// each with its MIS-weighted contribution (ERPT eq. 9 and 10, weighted by the power heuristic).
+// Each becomes a seed path of energy lum(contribution) in equal deposition (ERPT fig. 7).
+
+PMCR_CONST uint PATH_MAX_VERTICES = 16;   // eye vertices stored per record (x1..x16)
+
+// PathVertex.flags
+PMCR_CONST uint VERTEX_SPECULAR = 1u;          // the lobe sampled here is a delta lobe (S); else D
+PMCR_CONST uint VERTEX_EMITTER = 2u;           // the surface emits towards the previous vertex
+PMCR_CONST uint VERTEX_HAS_LIGHT_SAMPLE = 4u;  // lightPosition/explicitContribution are valid
+PMCR_CONST uint VERTEX_BACKFACE = 8u;          // the previous vertex sees the back of the surface
+
+struct PathVertex {
+    vec3 position;
+    uint triangle;               // original triangle index
+    vec3 normal;                 // geometric normal (unit, as wound)
+    uint flags;                  // VERTEX_*
+    vec3 shadingNormal;          // unit, on the same side as `normal`
+    uint material;
+    vec2 uv;
+    float pdfForward;            // solid-angle pdf of the direction sampled here (0 for delta)
+    uint lobe;                   // which lobe was sampled here (see shaders/common/bsdf.glsl)
+    vec3 lightPosition;          // explicit connection from this vertex
+    uint lightTriangle;
+    vec3 explicitContribution;   // MIS-weighted contribution of x0..xk y_k
+    float pad0;
+    vec3 implicitContribution;   // MIS-weighted contribution of x0..xk when xk is an emitter
+    float pad1;
+};
+PMCR_CHECK_SIZE(PathVertex, 112);
+
+struct PathRecord {
+    vec2 raster;                 // film position of x1 (raster coordinates)
+    uint pixel;                  // linear pixel index of raster
+    uint vertexCount;            // eye vertices stored (x1..x_vertexCount)
+    vec3 radiance;               // the sample's full estimate (sum of all its contributions)
+    uint firstVertex;            // index of x1 in the PathVertex buffer
+};
+PMCR_CHECK_SIZE(PathRecord, 32);
