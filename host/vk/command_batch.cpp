@@ -1,0 +1,129 @@
+#include "vk/command_batch.h"
+
+#include "core/error.h"
+#include "shared/host_device.h"
+#include "vk/buffer.h"
+#include "vk/check.h"
+#include "vk/context.h"
+#include "vk/gpu_timer.h"
+#include "vk/pipeline.h"
+
+namespace pmcr::vk {
+
+CommandBatch::CommandBatch(const PipelineLayout& layout, GpuTimer* timer)
+    : m_context(layout.context()), m_layout(layout), m_timer(timer) {
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = m_context.commandPool();
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(m_context.device(), &alloc, &m_cmd));
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkResult result = vkCreateFence(m_context.device(), &fenceInfo, nullptr, &m_fence);
+    if (result != VK_SUCCESS) {
+        vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
+        throwVkError(result, "vkCreateFence", __FILE__, __LINE__);
+    }
+}
+
+CommandBatch::~CommandBatch() {
+    if (m_recording) vkEndCommandBuffer(m_cmd);
+    vkDestroyFence(m_context.device(), m_fence, nullptr);
+    vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
+}
+
+void CommandBatch::begin() {
+    if (m_recording) return;
+    VK_CHECK(vkResetCommandBuffer(m_cmd, 0));
+    VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(m_cmd, &info));
+    if (m_timer) m_timer->reset(m_cmd);
+    m_recording = true;
+    m_dispatches = 0;
+    // Writes of earlier submissions (transfers, dispatches, host) are visible to this batch.
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                            VK_ACCESS_HOST_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(m_cmd,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                             VK_PIPELINE_STAGE_HOST_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                         1, &barrier, 0, nullptr, 0, nullptr);
+    m_needsBarrier = false;
+}
+
+void CommandBatch::barrier() {
+    if (!m_needsBarrier) return;
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    const VkPipelineStageFlags stages =
+        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    vkCmdPipelineBarrier(m_cmd, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    m_needsBarrier = false;
+}
+
+void CommandBatch::bind(const DescriptorSet& set) {
+    begin();
+    VkDescriptorSet handle = set.handle();
+    vkCmdBindDescriptorSets(m_cmd, VK_PIPELINE_BIND_POINT_COMPUTE, m_layout.handle(), set.index(),
+                            1, &handle, 0, nullptr);
+}
+
+void CommandBatch::dispatch(const Kernel& kernel, const void* push, uint32_t pushBytes,
+                            uint32_t invocations) {
+    begin();
+    if (invocations == 0) return;
+    const uint32_t groups = (invocations + gpu::WORKGROUP_SIZE - 1) / gpu::WORKGROUP_SIZE;
+    if (groups > m_context.limits().maxComputeWorkGroupCount[0])
+        throw Error("dispatch of " + std::to_string(invocations) + " invocations of " +
+                    kernel.name() + " exceeds the device's workgroup count limit");
+    barrier();
+    vkCmdBindPipeline(m_cmd, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.handle());
+    if (pushBytes > 0)
+        vkCmdPushConstants(m_cmd, m_layout.handle(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, push);
+    if (m_timer) m_timer->begin(m_cmd, kernel.name());
+    vkCmdDispatch(m_cmd, groups, 1, 1);
+    if (m_timer) m_timer->end(m_cmd);
+    m_needsBarrier = true;
+    ++m_dispatches;
+}
+
+void CommandBatch::fill(const Buffer& buffer, uint32_t value) {
+    begin();
+    barrier();
+    vkCmdFillBuffer(m_cmd, buffer.handle(), 0, VK_WHOLE_SIZE, value);
+    m_needsBarrier = true;
+}
+
+void CommandBatch::copy(const Buffer& src, const Buffer& dst, uint64_t bytes) {
+    begin();
+    barrier();
+    VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(m_cmd, src.handle(), dst.handle(), 1, &region);
+    m_needsBarrier = true;
+}
+
+void CommandBatch::submitAndWait() {
+    begin();
+    // Make every write of the batch visible to host reads of mapped memory.
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(m_cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    VK_CHECK(vkEndCommandBuffer(m_cmd));
+    m_recording = false;
+    VK_CHECK(vkResetFences(m_context.device(), 1, &m_fence));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &m_cmd;
+    VK_CHECK(vkQueueSubmit(m_context.queue(), 1, &submit, m_fence));
+    VK_CHECK(vkWaitForFences(m_context.device(), 1, &m_fence, VK_TRUE, UINT64_MAX));
+    if (m_timer) m_timer->collect();
+}
+
+}  // namespace pmcr::vk

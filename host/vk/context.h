@@ -1,0 +1,95 @@
+// The Vulkan instance, the chosen physical device, its logical device and compute queue.
+//
+// Device choice: a discrete GPU, else an integrated one, else a virtual one, else the CPU device
+// (Mesa lavapipe), among devices that have every feature pmcr needs; `--device <index|name
+// substring>` overrides. The features are checked at start-up and a missing one fails with a
+// message naming it.
+#pragma once
+
+#include <volk.h>
+
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace pmcr::vk {
+
+struct ContextOptions {
+    bool validate = false;       // enable VK_LAYER_KHRONOS_validation (+ synchronization checks)
+    std::string device;          // "" = automatic; a decimal index; or a name substring
+    bool printValidation = true; // echo validation messages to stderr as they arrive
+};
+
+struct DeviceDescription {
+    uint32_t index = 0;
+    std::string name;
+    std::string type;            // "discrete GPU", "integrated GPU", "CPU", ...
+    std::string apiVersion;
+    std::string driver;
+    std::vector<std::string> missing;  // required features/extensions it lacks; empty = usable
+};
+
+class Context {
+public:
+    explicit Context(const ContextOptions& options = {});
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    // Every physical device and whether pmcr can use it (for --list-devices).
+    static std::vector<DeviceDescription> listDevices();
+
+    VkInstance instance() const { return m_instance; }
+    VkPhysicalDevice physicalDevice() const { return m_physicalDevice; }
+    VkDevice device() const { return m_device; }
+    VkQueue queue() const { return m_queue; }
+    uint32_t queueFamily() const { return m_queueFamily; }
+    const VkPhysicalDeviceProperties& properties() const { return m_properties; }
+    const VkPhysicalDeviceLimits& limits() const { return m_properties.limits; }
+    std::string deviceName() const { return m_properties.deviceName; }
+    std::string deviceTypeName() const;
+    bool isCpuDevice() const { return m_properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+    bool validationEnabled() const { return m_validate; }
+    bool timestampsSupported() const { return m_timestampValidBits > 0; }
+    uint32_t timestampValidBits() const { return m_timestampValidBits; }
+
+    // Validation messages (warnings and errors) received so far. Tests require none.
+    std::vector<std::string> validationMessages() const;
+    void clearValidationMessages();
+
+    uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                            VkMemoryPropertyFlags preferred) const;
+
+    // Records commands into a one-time command buffer, submits it and waits for completion.
+    void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    VkCommandPool commandPool() const { return m_commandPool; }
+
+    // Names a Vulkan object for validation messages and debuggers (no-op without validation).
+    void setName(VkObjectType type, uint64_t handle, const char* name) const;
+
+private:
+    void destroy();
+    static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
+        VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+        VkDebugUtilsMessageTypeFlagsEXT types,
+        const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+
+    bool m_validate = false;
+    bool m_printValidation = true;
+    VkInstance m_instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT m_messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice m_physicalDevice = VK_NULL_HANDLE;
+    VkPhysicalDeviceProperties m_properties{};
+    VkPhysicalDeviceMemoryProperties m_memoryProperties{};
+    VkDevice m_device = VK_NULL_HANDLE;
+    VkQueue m_queue = VK_NULL_HANDLE;
+    uint32_t m_queueFamily = 0;
+    uint32_t m_timestampValidBits = 0;
+    VkCommandPool m_commandPool = VK_NULL_HANDLE;
+
+    mutable std::mutex m_messageMutex;
+    std::vector<std::string> m_messages;
+};
+
+}  // namespace pmcr::vk

@@ -1,0 +1,130 @@
+#include "vk/pipeline.h"
+
+#include <map>
+
+#include "core/error.h"
+#include "shared/host_device.h"
+#include "vk/buffer.h"
+#include "vk/check.h"
+#include "vk/context.h"
+
+namespace pmcr::vk {
+
+const std::map<std::string, std::span<const uint32_t>>& spirvRegistry();  // generated
+
+std::span<const uint32_t> spirv(const std::string& name) {
+    const auto& registry = spirvRegistry();
+    auto it = registry.find(name);
+    if (it == registry.end()) throw Error("no compiled shader named '" + name + "'");
+    return it->second;
+}
+
+namespace {
+
+VkDescriptorSetLayout createSetLayout(VkDevice device, uint32_t count, bool firstIsUniform) {
+    std::vector<VkDescriptorSetLayoutBinding> bindings(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        bindings[i].binding = i;
+        bindings[i].descriptorType = (firstIsUniform && i == 0) ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                                                : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorCount = 1;
+        bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    info.bindingCount = count;
+    info.pBindings = bindings.data();
+    VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateDescriptorSetLayout(device, &info, nullptr, &layout));
+    return layout;
+}
+
+}  // namespace
+
+PipelineLayout::PipelineLayout(Context& context) : m_context(context) {
+    VkDevice device = context.device();
+    m_sceneSetLayout = createSetLayout(device, gpu::SCENE_BINDING_COUNT, true);
+    m_workSetLayout = createSetLayout(device, gpu::WORK_BINDING_COUNT, false);
+    VkDescriptorSetLayout sets[] = {m_sceneSetLayout, m_workSetLayout};
+    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, gpu::PUSH_CONSTANT_BYTES};
+    VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    info.setLayoutCount = 2;
+    info.pSetLayouts = sets;
+    info.pushConstantRangeCount = 1;
+    info.pPushConstantRanges = &push;
+    VK_CHECK(vkCreatePipelineLayout(device, &info, nullptr, &m_layout));
+}
+
+PipelineLayout::~PipelineLayout() {
+    VkDevice device = m_context.device();
+    vkDestroyPipelineLayout(device, m_layout, nullptr);
+    vkDestroyDescriptorSetLayout(device, m_workSetLayout, nullptr);
+    vkDestroyDescriptorSetLayout(device, m_sceneSetLayout, nullptr);
+}
+
+DescriptorSet::DescriptorSet(const PipelineLayout& layout, Kind kind, const std::string& name)
+    : m_context(layout.context()), m_kind(kind) {
+    VkDevice device = m_context.device();
+    const uint32_t count = kind == Kind::Scene ? gpu::SCENE_BINDING_COUNT : gpu::WORK_BINDING_COUNT;
+    std::vector<VkDescriptorPoolSize> sizes = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
+    if (kind == Kind::Scene) sizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1});
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = uint32_t(sizes.size());
+    poolInfo.pPoolSizes = sizes.data();
+    VK_CHECK(vkCreateDescriptorPool(device, &poolInfo, nullptr, &m_pool));
+    VkDescriptorSetLayout setLayout =
+        kind == Kind::Scene ? layout.sceneSetLayout() : layout.workSetLayout();
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = m_pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &setLayout;
+    VkResult result = vkAllocateDescriptorSets(device, &alloc, &m_set);
+    if (result != VK_SUCCESS) {
+        vkDestroyDescriptorPool(device, m_pool, nullptr);
+        throwVkError(result, "vkAllocateDescriptorSets", __FILE__, __LINE__);
+    }
+    m_context.setName(VK_OBJECT_TYPE_DESCRIPTOR_SET, uint64_t(m_set), name.c_str());
+}
+
+DescriptorSet::~DescriptorSet() { vkDestroyDescriptorPool(m_context.device(), m_pool, nullptr); }
+
+void DescriptorSet::bind(uint32_t binding, const Buffer& buffer) {
+    const uint32_t count = m_kind == Kind::Scene ? gpu::SCENE_BINDING_COUNT : gpu::WORK_BINDING_COUNT;
+    if (binding >= count) throw Error("descriptor binding " + std::to_string(binding) + " out of range");
+    VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = m_set;
+    write.dstBinding = binding;
+    write.descriptorCount = 1;
+    write.descriptorType = (m_kind == Kind::Scene && binding == gpu::BINDING_SCENE_INFO)
+                               ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                               : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    write.pBufferInfo = &info;
+    vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
+}
+
+Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName)
+    : m_context(layout.context()), m_name(shaderName) {
+    auto code = spirv(shaderName);
+    VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    moduleInfo.codeSize = code.size() * sizeof(uint32_t);
+    moduleInfo.pCode = code.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(m_context.device(), &moduleInfo, nullptr, &module));
+
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module;
+    info.stage.pName = "main";
+    info.layout = layout.handle();
+    VkResult result =
+        vkCreateComputePipelines(m_context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &m_pipeline);
+    vkDestroyShaderModule(m_context.device(), module, nullptr);
+    if (result != VK_SUCCESS) throwVkError(result, "vkCreateComputePipelines", __FILE__, __LINE__);
+    m_context.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(m_pipeline), shaderName.c_str());
+}
+
+Kernel::~Kernel() { vkDestroyPipeline(m_context.device(), m_pipeline, nullptr); }
+
+}  // namespace pmcr::vk

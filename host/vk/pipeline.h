@@ -1,0 +1,79 @@
+// Compute pipelines. Every kernel shares one pipeline layout (shared/bindings.h):
+//   set 0 = scene buffers, set 1 = 16 storage buffers whose meaning each kernel defines,
+//   push constants of PUSH_CONSTANT_BYTES.
+// One layout means any descriptor set can be bound with any kernel, and a kernel's bindings are
+// written once in its .comp and in shared/ headers, never in host code.
+#pragma once
+
+#include <volk.h>
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pmcr::vk {
+
+class Context;
+class Buffer;
+
+// SPIR-V embedded at build time (cmake/Shaders.cmake), by name: "pt", "tests/rng_test", ...
+std::span<const uint32_t> spirv(const std::string& name);
+
+class PipelineLayout {
+public:
+    explicit PipelineLayout(Context& context);
+    ~PipelineLayout();
+    PipelineLayout(const PipelineLayout&) = delete;
+    PipelineLayout& operator=(const PipelineLayout&) = delete;
+
+    VkPipelineLayout handle() const { return m_layout; }
+    VkDescriptorSetLayout sceneSetLayout() const { return m_sceneSetLayout; }
+    VkDescriptorSetLayout workSetLayout() const { return m_workSetLayout; }
+    Context& context() const { return m_context; }
+
+private:
+    Context& m_context;
+    VkDescriptorSetLayout m_sceneSetLayout = VK_NULL_HANDLE;
+    VkDescriptorSetLayout m_workSetLayout = VK_NULL_HANDLE;
+    VkPipelineLayout m_layout = VK_NULL_HANDLE;
+};
+
+// A descriptor set of the scene layout or the work layout, with its own small pool.
+class DescriptorSet {
+public:
+    enum class Kind { Scene, Work };
+    DescriptorSet(const PipelineLayout& layout, Kind kind, const std::string& name);
+    ~DescriptorSet();
+    DescriptorSet(const DescriptorSet&) = delete;
+    DescriptorSet& operator=(const DescriptorSet&) = delete;
+
+    // Points `binding` at the whole of `buffer` (uniform for the scene's binding 0, else storage).
+    void bind(uint32_t binding, const Buffer& buffer);
+    VkDescriptorSet handle() const { return m_set; }
+    uint32_t index() const { return m_kind == Kind::Scene ? 0u : 1u; }
+
+private:
+    Context& m_context;
+    Kind m_kind;
+    VkDescriptorPool m_pool = VK_NULL_HANDLE;
+    VkDescriptorSet m_set = VK_NULL_HANDLE;
+};
+
+class Kernel {
+public:
+    Kernel(const PipelineLayout& layout, const std::string& shaderName);
+    ~Kernel();
+    Kernel(const Kernel&) = delete;
+    Kernel& operator=(const Kernel&) = delete;
+
+    VkPipeline handle() const { return m_pipeline; }
+    const std::string& name() const { return m_name; }
+
+private:
+    Context& m_context;
+    std::string m_name;
+    VkPipeline m_pipeline = VK_NULL_HANDLE;
+};
+
+}  // namespace pmcr::vk

@@ -1,0 +1,49 @@
+// Fixture for tests that dispatch kernels: one Vulkan context per test binary, created with
+// the Khronos validation layer (synchronization validation included). Any validation message
+// emitted during a test fails that test.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "vk/buffer.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+#include "vk/pipeline.h"
+
+namespace pmcr::test {
+
+// The shared context (validation on unless PMCR_VALIDATE=0 in the environment).
+vk::Context& gpuContext();
+vk::PipelineLayout& gpuLayout();
+
+class GpuTest : public ::testing::Test {
+protected:
+    void SetUp() override;
+    void TearDown() override;
+
+    vk::Context& context() { return gpuContext(); }
+    vk::PipelineLayout& layout() { return gpuLayout(); }
+
+    // Runs `shader` once over `invocations` with the given work-set buffers bound at their
+    // index in `buffers` (binding i = buffers[i]; nullptr entries stay unbound).
+    template <class Push>
+    void run(const std::string& shader, const Push& push, uint32_t invocations,
+             std::initializer_list<const vk::Buffer*> buffers) {
+        runRaw(shader, &push, sizeof(Push), invocations, buffers);
+    }
+    void runRaw(const std::string& shader, const void* push, uint32_t pushBytes,
+                uint32_t invocations, std::initializer_list<const vk::Buffer*> buffers);
+
+    template <class T>
+    vk::Buffer storage(const std::vector<T>& values, const std::string& name = "test buffer") {
+        return vk::Buffer::storage(context(), values, name);
+    }
+    vk::Buffer zeros(size_t bytes, const std::string& name = "test output");
+};
+
+}  // namespace pmcr::test
