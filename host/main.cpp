@@ -1,7 +1,4 @@
 // pmcr command-line entry point.
-#include <cstdio>
+#include "cli/cli.h"
 
-int main() {
-    std::printf("pmcr %s\n", PMCR_VERSION);
-    return 0;
-}
+int main(int argc, char** argv) { return pmcr::cli::run(argc, argv); }

@@ -1,0 +1,138 @@
+#include "cli/render_command.h"
+
+#include <cstdio>
+
+#include "core/error.h"
+#include "core/interrupt.h"
+#include "core/log.h"
+#include "render/methods.h"
+#include "render/renderer.h"
+#include "scene/gltf_loader.h"
+#include "vk/context.h"
+
+namespace pmcr::cli {
+
+RenderCommand parseRenderCommand(Args& args) {
+    RenderCommand c;
+    RenderSettings& s = c.settings;
+    bool sceneSeen = false;
+    while (!args.done()) {
+        const std::string a = args.next();
+        if (a == "--method") s.method = args.value(a);
+        else if (a == "--spp") s.spp = parseUint(a, args.value(a), 1, 1u << 30);
+        else if (a == "--time") s.timeLimit = parseDouble(a, args.value(a), 1e-3, 1e7);
+        else if (a == "--width") s.width = parseInt(a, args.value(a), 1, 16384);
+        else if (a == "--height") s.height = parseInt(a, args.value(a), 1, 16384);
+        else if (a == "--seed") s.seed = parseUint(a, args.value(a), 0, 0xffffffffu);
+        else if (a == "--max-depth") s.maxDepth = parseUint(a, args.value(a), 1, 1024);
+        else if (a == "--rr-depth") s.rrDepth = parseUint(a, args.value(a), 1, 1024);
+        else if (a == "--camera") s.camera = parseInt(a, args.value(a), 0, 1 << 20);
+        else if (a == "-o" || a == "--output") c.output = args.value(a);
+        else if (a == "--png") c.png = args.value(a);
+        else if (a == "--no-png") c.noPng = true;
+        else if (a == "--exposure") c.exposure = float(parseDouble(a, args.value(a), -64, 64));
+        else if (a == "--device") s.device = args.value(a);
+        else if (a == "--validate") s.validate = true;
+        else if (a == "--stats") c.stats = true;
+        else if (a == "--quiet" || a == "-q") s.quiet = true;
+        else if (a.rfind("--", 0) == 0 && a.size() > 2) s.options[a.substr(2)] = args.value(a);
+        else if (a.rfind("-", 0) == 0 && a.size() > 1) throw Error(a + ": unknown option");
+        else if (!sceneSeen) {
+            c.scene = a;
+            sceneSeen = true;
+        } else {
+            throw Error(a + ": unexpected argument (one scene per render)");
+        }
+    }
+    if (!sceneSeen) throw Error("render: missing SCENE (a .gltf or .glb file)");
+    if (c.png && c.noPng) throw Error("--png and --no-png contradict each other");
+    validateMethodOptions(s);
+    return c;
+}
+
+int runRender(const RenderCommand& command) {
+    RenderSettings settings = command.settings;
+    log::setQuiet(settings.quiet);
+    // Check the outputs before spending any time: a bad path fails at once.
+    OutputPaths paths = resolveOutputPaths(command.scene, command.output, command.png,
+                                           command.noPng, command.exposure);
+    Scene scene = loadScene(command.scene);
+    resolveImageSize(scene, settings);
+
+    vk::ContextOptions options;
+    options.validate = settings.validate;
+    options.device = settings.device;
+    vk::Context context(options);
+    log::info("device: " + context.deviceName() + " (" + context.deviceTypeName() + ")");
+
+    installInterruptHandler();
+    RenderResult result = renderScene(context, scene, settings);
+    auto written = writeRenderOutputs(result, paths);
+
+    const auto& st = result.stats;
+    if (!settings.quiet) {
+        std::fprintf(stderr, "%s: %dx%d, %.4g spp, %.2f s%s -> %s\n", settings.method.c_str(),
+                     settings.width, settings.height, result.output.samplesPerPixel, result.seconds,
+                     result.interrupted ? " (interrupted)" : "", paths.hdr.string().c_str());
+    }
+    if (command.stats) {
+        std::printf("method            %s\n", settings.method.c_str());
+        std::printf("device            %s\n", context.deviceName().c_str());
+        std::printf("resolution        %dx%d\n", settings.width, settings.height);
+        std::printf("samples/pixel     %.4g\n", result.output.samplesPerPixel);
+        std::printf("render time       %.3f s\n", result.seconds);
+        std::printf("BVH build         %.3f s (%zu nodes)\n", st["bvh_build_seconds"].get<double>(),
+                    st["bvh_nodes"].get<size_t>());
+        std::printf("rays traced       %llu (%.3g rays/s)\n",
+                    (unsigned long long)st["rays"].get<uint64_t>(), st["rays_per_second"].get<double>());
+        std::printf("NaN/Inf dropped   %llu\n", (unsigned long long)st["nan_samples_dropped"].get<uint64_t>());
+        std::printf("GPU time          %.1f ms\n", st["gpu_milliseconds"].get<double>());
+        for (const auto& [name, k] : st["gpu_kernels"].items())
+            std::printf("  %-16s %10.1f ms  %6llu dispatches\n", name.c_str(),
+                        k["milliseconds"].get<double>(), (unsigned long long)k["dispatches"].get<uint64_t>());
+        for (const auto& path : written) std::printf("wrote             %s\n", path.string().c_str());
+    }
+    auto messages = context.validationMessages();
+    if (!messages.empty())
+        throw Error("validation layer reported " + std::to_string(messages.size()) + " message(s)");
+    return result.interrupted ? 130 : 0;
+}
+
+void printRenderHelp() {
+    std::printf(
+        "usage: pmcr render SCENE [options]\n"
+        "\n"
+        "Renders a glTF 2.0 scene (.gltf or .glb) and writes an HDR image, a PNG preview and a\n"
+        "stats JSON beside it.\n"
+        "\n"
+        "options:\n"
+        "  --method NAME        rendering method (default pt; see the list below)\n"
+        "  --spp N              samples per pixel (default 64 for pt/direct)\n"
+        "  --time SECONDS       render for this long (with --spp: whichever comes first)\n"
+        "  --width W --height H image size (default: the scene's, else 640 at the camera's aspect)\n"
+        "  --seed S             random seed; the same seed and device give the same image (default 1)\n"
+        "  --max-depth D        maximum bounces, 1 = direct lighting (default 16)\n"
+        "  --rr-depth D         Russian roulette from this bounce on (default 3)\n"
+        "  --camera N           use the scene's N-th camera (default 0)\n"
+        "  -o, --output FILE    HDR output, .exr or .pfm (default: SCENE-NAME.exr here)\n"
+        "  --png FILE           PNG preview path (default: beside the output)\n"
+        "  --no-png             no PNG preview\n"
+        "  --exposure EV        PNG exposure in stops (default 0)\n"
+        "  --device ID          Vulkan device index or name substring (see --list-devices)\n"
+        "  --validate           enable the Khronos validation layer\n"
+        "  --stats              print timings, rays/s and per-kernel GPU time\n"
+        "  -q, --quiet          no progress bar or messages\n"
+        "\n"
+        "Ctrl-C stops the render and still writes the image so far (exit status 130).\n"
+        "\n"
+        "methods:\n");
+    for (const auto& m : methods()) {
+        std::printf("  %-14s %s%s\n", m.name.c_str(), m.summary.c_str(),
+                    m.create ? "" : (" [not implemented yet: " + m.plannedIn + "]").c_str());
+        for (const auto& o : m.options)
+            std::printf("      --%-18s %s (default %s)%s\n", o.name.c_str(), o.help.c_str(),
+                        o.defaultValue.c_str(), o.biased ? " [BIASED]" : "");
+    }
+}
+
+}  // namespace pmcr::cli

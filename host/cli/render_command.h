@@ -1,0 +1,26 @@
+// `pmcr render SCENE [options]`.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "cli/args.h"
+#include "render/settings.h"
+
+namespace pmcr::cli {
+
+struct RenderCommand {
+    std::filesystem::path scene;
+    RenderSettings settings;
+    std::optional<std::filesystem::path> output;
+    std::optional<std::filesystem::path> png;
+    bool noPng = false;
+    float exposure = 0.0f;
+    bool stats = false;
+};
+
+RenderCommand parseRenderCommand(Args& args);
+int runRender(const RenderCommand& command);
+void printRenderHelp();
+
+}  // namespace pmcr::cli

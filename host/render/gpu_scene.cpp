@@ -1,0 +1,76 @@
+#include "render/gpu_scene.h"
+
+#include <chrono>
+
+#include "core/error.h"
+
+namespace pmcr {
+
+gpu::SceneInfo makeSceneInfo(const Scene& scene, int camera, int width, int height) {
+    if (camera < 0 || camera >= int(scene.cameras.size()))
+        fail(scene.path.string(), "--camera " + std::to_string(camera) + " out of range (the scene has " +
+                                      std::to_string(scene.cameras.size()) + " camera(s))");
+    const Camera& c = scene.cameras[size_t(camera)];
+    gpu::SceneInfo info{};
+    info.cameraPosition = c.position;
+    info.tanHalfFovY = std::tan(0.5f * c.yfov);
+    info.cameraRight = c.right;
+    info.aspect = float(width) / float(height);
+    info.cameraUp = c.up;
+    info.width = uint32_t(width);
+    info.cameraForward = c.forward;
+    info.height = uint32_t(height);
+    info.sceneCenter = 0.5f * (scene.boundsMin + scene.boundsMax);
+    info.sceneRadius = 0.5f * glm::length(scene.boundsMax - scene.boundsMin);
+    info.triangleCount = uint32_t(scene.triangles.size());
+    return info;
+}
+
+GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const Scene& scene,
+                   int camera, int width, int height)
+    : m_scene(scene) {
+    m_info = makeSceneInfo(scene, camera, width, height);
+    auto start = std::chrono::steady_clock::now();
+    m_bvh = Bvh::build(scene);
+    m_bvhSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    m_emitters = buildEmitters(scene);
+    m_info.emitterCount = uint32_t(m_emitters.emitters.size());
+    m_info.nodeCount = uint32_t(m_bvh.nodes().size());
+    m_info.totalEmitterPower = m_emitters.totalPower;
+
+    std::vector<gpu::TextureInfo> textureInfos;
+    std::vector<uint32_t> texels;
+    for (const Texture& t : scene.textures) {
+        textureInfos.push_back({uint32_t(texels.size()), t.width, t.height, 0});
+        texels.insert(texels.end(), t.rgba8.begin(), t.rgba8.end());
+    }
+
+    try {
+        m_infoBuffer = vk::Buffer(context, sizeof(gpu::SceneInfo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                                  "scene info");
+        m_infoBuffer.upload(&m_info, sizeof(m_info));
+        m_vertices = vk::Buffer::storage(context, scene.vertices, "vertex buffer");
+        m_triangles = vk::Buffer::storage(context, scene.triangles, "triangle buffer");
+        m_isectTriangles = vk::Buffer::storage(context, m_bvh.triangles(), "BVH triangle buffer");
+        m_nodes = vk::Buffer::storage(context, m_bvh.nodes(), "BVH node buffer");
+        m_materials = vk::Buffer::storage(context, scene.materials, "material buffer");
+        m_emitterBuffer = vk::Buffer::storage(context, m_emitters.emitters, "emitter buffer");
+        m_textureInfos = vk::Buffer::storage(context, textureInfos, "texture table");
+        m_texels = vk::Buffer::storage(context, texels, "texture buffer");
+    } catch (const Error& e) {
+        fail(scene.path.string(), std::string("scene too large for the device: ") + e.what());
+    }
+
+    m_set = std::make_unique<vk::DescriptorSet>(layout, vk::DescriptorSet::Kind::Scene, "scene");
+    m_set->bind(gpu::BINDING_SCENE_INFO, m_infoBuffer);
+    m_set->bind(gpu::BINDING_VERTICES, m_vertices);
+    m_set->bind(gpu::BINDING_TRIANGLES, m_triangles);
+    m_set->bind(gpu::BINDING_ISECT_TRIANGLES, m_isectTriangles);
+    m_set->bind(gpu::BINDING_BVH_NODES, m_nodes);
+    m_set->bind(gpu::BINDING_MATERIALS, m_materials);
+    m_set->bind(gpu::BINDING_EMITTERS, m_emitterBuffer);
+    m_set->bind(gpu::BINDING_TEXTURE_INFOS, m_textureInfos);
+    m_set->bind(gpu::BINDING_TEXELS, m_texels);
+}
+
+}  // namespace pmcr

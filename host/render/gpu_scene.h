@@ -1,0 +1,50 @@
+// The scene on the device: BVH built on the host, every scene buffer uploaded once, and the
+// scene descriptor set (set 0) that every kernel binds.
+#pragma once
+
+#include <memory>
+
+#include "scene/bvh.h"
+#include "scene/scene.h"
+#include "shared/host_device.h"
+#include "vk/buffer.h"
+#include "vk/pipeline.h"
+
+namespace pmcr {
+
+class GpuScene {
+public:
+    // Builds the BVH and uploads everything; `camera` indexes scene.cameras, width/height set
+    // the raster. Fails with the scene's file name when it exceeds the device's buffer limits.
+    GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const Scene& scene,
+             int camera, int width, int height);
+
+    const vk::DescriptorSet& descriptorSet() const { return *m_set; }
+    const gpu::SceneInfo& info() const { return m_info; }
+    const Scene& scene() const { return m_scene; }
+    const Bvh& bvh() const { return m_bvh; }
+    const EmitterTable& emitters() const { return m_emitters; }
+    double bvhBuildSeconds() const { return m_bvhSeconds; }
+
+private:
+    const Scene& m_scene;
+    Bvh m_bvh;
+    EmitterTable m_emitters;
+    gpu::SceneInfo m_info{};
+    double m_bvhSeconds = 0.0;
+    vk::Buffer m_infoBuffer;
+    vk::Buffer m_vertices;
+    vk::Buffer m_triangles;
+    vk::Buffer m_isectTriangles;
+    vk::Buffer m_nodes;
+    vk::Buffer m_materials;
+    vk::Buffer m_emitterBuffer;
+    vk::Buffer m_textureInfos;
+    vk::Buffer m_texels;
+    std::unique_ptr<vk::DescriptorSet> m_set;
+};
+
+// The SceneInfo (camera and constants) for a scene, camera index and raster size.
+gpu::SceneInfo makeSceneInfo(const Scene& scene, int camera, int width, int height);
+
+}  // namespace pmcr

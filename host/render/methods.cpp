@@ -1,0 +1,47 @@
+#include "render/methods.h"
+
+#include "core/error.h"
+#include "render/pt_integrator.h"
+
+namespace pmcr {
+
+const std::vector<MethodInfo>& methods() {
+    static const std::vector<MethodInfo> list = {
+        {"pt", "path tracing with next-event estimation and MIS (the baseline)", true, {},
+         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Full); },
+         ""},
+        {"direct", "direct lighting only, MIS of light and BSDF sampling (the PMC-HI baseline)", true,
+         {{"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"}},
+         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Direct); },
+         ""},
+        {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true, {}, nullptr,
+         "issue 5"},
+        {"pmc-ip-direct", "PMC-IP over MIS direct lighting", true, {}, nullptr, "issue 5"},
+        {"pmc-hi", "PMC-HI adaptive direct lighting", true, {}, nullptr, "issue 6"},
+        {"pmc-ip-hi", "PMC-IP with PMC-HI feedback", true, {}, nullptr, "issue 6"},
+        {"erpt", "energy redistribution path tracing", true, {}, nullptr, "issue 7"},
+        {"pmc-er", "population Monte Carlo energy redistribution", true, {}, nullptr, "issue 8"},
+        {"pmc-pt", "population Monte Carlo path tracing", true, {}, nullptr, "issue 9"},
+    };
+    return list;
+}
+
+const MethodInfo* findMethod(const std::string& name) {
+    for (const auto& m : methods())
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+void validateMethodOptions(const RenderSettings& settings) {
+    const MethodInfo* method = findMethod(settings.method);
+    if (!method) throw Error("--method " + settings.method + ": unknown method (see pmcr --help)");
+    if (!method->create)
+        throw Error("--method " + settings.method + ": not implemented yet (" + method->plannedIn + ")");
+    for (const auto& [name, value] : settings.options) {
+        bool known = false;
+        for (const auto& o : method->options) known = known || o.name == name;
+        if (!known) throw Error("--" + name + ": unknown option for --method " + settings.method);
+    }
+}
+
+}  // namespace pmcr

@@ -1,0 +1,39 @@
+// The methods pmcr knows, their options and how to create them. One registry for the CLI's
+// `render --method`, `--help` and `bench --methods`.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/integrator.h"
+#include "render/settings.h"
+
+namespace pmcr {
+
+struct MethodOption {
+    std::string name;          // "chain-length" for --chain-length
+    std::string defaultValue;
+    std::string help;
+    bool biased = false;       // a biased option (ERPT's noise filters): labelled in --help
+};
+
+struct MethodInfo {
+    std::string name;
+    std::string summary;
+    bool unbiased = true;
+    std::vector<MethodOption> options;
+    // Empty when the method is not implemented yet; `plannedIn` then says where it is tracked.
+    std::function<std::unique_ptr<Integrator>(const RenderSettings&)> create;
+    std::string plannedIn;
+};
+
+const std::vector<MethodInfo>& methods();
+const MethodInfo* findMethod(const std::string& name);
+
+// Checks settings.options against the method's options; throws pmcr::Error naming an unknown
+// option or an unimplemented method.
+void validateMethodOptions(const RenderSettings& settings);
+
+}  // namespace pmcr

@@ -1,0 +1,98 @@
+#include "render/pt_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "core/error.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
+    : m_mode(mode), m_lightSamples(1) {
+    if (mode == Mode::Direct) {
+        int n = settings.optionInt("light-samples", 1);
+        if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
+        m_lightSamples = uint32_t(n);
+    }
+}
+
+RenderOutput PathTracer::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Kernel kernel(session.layout(), m_mode == Mode::Full ? "pt" : "direct");
+    Film& film = session.film();
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+
+    const uint32_t pixels = film.pixelCount();
+    // Without a sample count, a time limit alone decides when to stop.
+    const uint32_t spp = settings.spp > 0 ? settings.spp
+                         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
+                                                    : kDefaultSpp;
+    DispatchSizer sizer(std::min<uint32_t>(pixels, 4096), pixels, session.targetDispatchSeconds());
+
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.samplesPerPixel = 1;
+    push.seed = settings.seed;
+    push.maxDepth = m_mode == Mode::Full ? settings.maxDepth : 1;
+    push.rrDepth = settings.rrDepth;
+    push.lightSamples = m_lightSamples;
+
+    vk::CommandBatch batch(session.layout(), &session.timer());
+    uint32_t pass = 0;
+    uint32_t offset = 0;
+    uint64_t samples = 0;
+    session.startClock();
+    while (pass < spp && !session.shouldStop()) {
+        // Record dispatches until the batch holds about targetBatchSeconds of work.
+        const auto batchStart = std::chrono::steady_clock::now();
+        batch.fill(film.counters(), 0);
+        batch.bind(session.scene().descriptorSet());
+        batch.bind(work);
+        const double dispatchesPerBatch =
+            std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds());
+        uint64_t batchSamples = 0;
+        for (int d = 0; d < int(dispatchesPerBatch) && pass < spp; ++d) {
+            const uint32_t count = std::min(sizer.units(), pixels - offset);
+            push.pixelOffset = offset;
+            push.invocationCount = count;
+            push.sampleBase = pass;
+            batch.dispatch(kernel, push, count);
+            batchSamples += count;
+            offset += count;
+            if (offset == pixels) {
+                offset = 0;
+                ++pass;
+            }
+        }
+        batch.submitAndWait();
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count();
+        sizer.record(batchSamples / std::max<uint32_t>(batch.dispatchCount(), 1), seconds /
+                     std::max<uint32_t>(batch.dispatchCount(), 1));
+        film.addCounters(session.counters());
+        samples += batchSamples;
+        const double sppDone = double(samples) / double(pixels);
+        const double fraction = settings.spp > 0 || settings.timeLimit <= 0.0
+                                    ? sppDone / double(spp)
+                                    : session.elapsedSeconds() / settings.timeLimit;
+        session.progress().update(fraction, sppDone, "spp");
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    auto pixelsData = film.download();
+    out.image = resolveAverage(pixelsData, film.width(), film.height());
+    out.cameraSamples = samples;
+    out.samplesPerPixel = double(samples) / double(pixels);
+    out.methodStats["passes_completed"] = pass;
+    if (m_mode == Mode::Direct) out.methodStats["light_samples"] = m_lightSamples;
+    return out;
+}
+
+}  // namespace pmcr

@@ -1,0 +1,24 @@
+// Path tracing (`pt`) and MIS direct lighting (`direct`): progressive passes of one sample per
+// pixel, each pass split into dispatches over pixel ranges. One writer per pixel per dispatch
+// and one sample per pixel per pass make the film sums independent of how the passes are split,
+// so a fixed seed and sample count give the same image bit for bit on a given device.
+#pragma once
+
+#include "render/integrator.h"
+
+namespace pmcr {
+
+class PathTracer : public Integrator {
+public:
+    enum class Mode { Full, Direct };
+    PathTracer(const RenderSettings& settings, Mode mode);
+    RenderOutput render(RenderSession& session) override;
+
+    static constexpr uint32_t kDefaultSpp = 64;
+
+private:
+    Mode m_mode;
+    uint32_t m_lightSamples;
+};
+
+}  // namespace pmcr

@@ -1,0 +1,95 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "image/image.h"
+#include "render/methods.h"
+#include "render/stats.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+void resolveImageSize(const Scene& scene, RenderSettings& s) {
+    const int maxSize = 16384;
+    float aspect = 4.0f / 3.0f;
+    if (s.camera >= 0 && s.camera < int(scene.cameras.size()) && scene.cameras[size_t(s.camera)].aspect > 0.0f)
+        aspect = scene.cameras[size_t(s.camera)].aspect;
+    if (s.width == 0 && s.height == 0) {
+        if (scene.defaultWidth > 0 && scene.defaultHeight > 0) {
+            s.width = scene.defaultWidth;
+            s.height = scene.defaultHeight;
+        } else {
+            s.width = 640;
+        }
+    }
+    if (s.height == 0) s.height = std::max(1, int(std::lround(float(s.width) / aspect)));
+    if (s.width == 0) s.width = std::max(1, int(std::lround(float(s.height) * aspect)));
+    if (s.width > maxSize || s.height > maxSize)
+        throw Error("image size " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                    " exceeds " + std::to_string(maxSize) + " pixels per side");
+}
+
+RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings) {
+    validateMethodOptions(settings);
+    const MethodInfo* method = findMethod(settings.method);
+    auto integrator = method->create(settings);
+    RenderSession session(context, scene, settings, settings.width, settings.height);
+    auto start = std::chrono::steady_clock::now();
+    RenderResult result;
+    result.output = integrator->render(session);
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.interrupted = session.interrupted();
+    result.stats = renderStats(session, result.output, scene.path, result.seconds);
+    return result;
+}
+
+OutputPaths resolveOutputPaths(const std::filesystem::path& scene,
+                               const std::optional<std::filesystem::path>& output,
+                               const std::optional<std::filesystem::path>& png, bool noPng,
+                               float exposure) {
+    namespace fs = std::filesystem;
+    OutputPaths paths;
+    paths.exposure = exposure;
+    paths.hdr = output ? *output : fs::path(scene.stem().string() + ".exr");
+    const std::string ext = paths.hdr.extension().string();
+    if (ext != ".exr" && ext != ".pfm")
+        fail(paths.hdr.string(), "output must end in .exr or .pfm");
+    auto checkDirectory = [](const fs::path& file) {
+        fs::path dir = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+        std::error_code ec;
+        if (!fs::is_directory(dir, ec)) fail(file.string(), "output directory does not exist");
+    };
+    checkDirectory(paths.hdr);
+    if (!noPng) {
+        paths.png = png ? *png : fs::path(paths.hdr).replace_extension(".png");
+        if (paths.png->extension() != ".png") fail(paths.png->string(), "--png must end in .png");
+        checkDirectory(*paths.png);
+    }
+    paths.stats = statsPathFor(paths.hdr);
+    return paths;
+}
+
+std::vector<std::filesystem::path> writeRenderOutputs(const RenderResult& result,
+                                                      const OutputPaths& paths) {
+    std::vector<std::filesystem::path> written;
+    writeHdr(paths.hdr, result.output.image);
+    written.push_back(paths.hdr);
+    if (paths.png) {
+        writePng(*paths.png, result.output.image, paths.exposure);
+        written.push_back(*paths.png);
+    }
+    for (const auto& [suffix, image] : result.output.diagnostics) {
+        std::filesystem::path hdr = paths.hdr;
+        hdr.replace_extension("." + suffix + paths.hdr.extension().string());
+        writeHdr(hdr, image);
+        written.push_back(hdr);
+    }
+    writeJsonAtomically(paths.stats, result.stats);
+    written.push_back(paths.stats);
+    return written;
+}
+
+}  // namespace pmcr

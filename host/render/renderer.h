@@ -1,0 +1,51 @@
+// Rendering a loaded scene with one method, and writing what it produced. Shared by
+// `pmcr render`, `pmcr bench` and the tests, so all three run exactly the same path.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "render/session.h"
+#include "render/settings.h"
+#include "scene/scene.h"
+
+namespace pmcr {
+
+struct RenderResult {
+    RenderOutput output;
+    nlohmann::json stats;
+    double seconds = 0.0;
+    bool interrupted = false;
+};
+
+// Fills in width/height: explicit values win; else the scene's default size; else 640 wide at
+// the camera's aspect ratio (4:3 when the file gives none). Only one given: the other follows
+// the aspect ratio.
+void resolveImageSize(const Scene& scene, RenderSettings& settings);
+
+// Renders `scene` with settings.method on `context` (settings must have a resolved size).
+RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings);
+
+struct OutputPaths {
+    std::filesystem::path hdr;                  // .exr or .pfm
+    std::optional<std::filesystem::path> png;   // tonemapped preview
+    std::filesystem::path stats;                // JSON beside hdr
+    float exposure = 0.0f;
+};
+
+// Default paths named after the scene: `<scene stem>.exr` (+ .png, .json) in the current
+// directory unless --output/--png say otherwise. Fails early (before any rendering) when the
+// output directory does not exist or the extension is not .exr/.pfm.
+OutputPaths resolveOutputPaths(const std::filesystem::path& scene,
+                               const std::optional<std::filesystem::path>& output,
+                               const std::optional<std::filesystem::path>& png, bool noPng,
+                               float exposure);
+
+// Writes the HDR image, its PNG, the diagnostics (`<stem>.<suffix>.exr` and .png) and the stats
+// JSON, each atomically. Returns the paths written.
+std::vector<std::filesystem::path> writeRenderOutputs(const RenderResult& result,
+                                                      const OutputPaths& paths);
+
+}  // namespace pmcr

@@ -1,0 +1,55 @@
+#include "render/session.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/interrupt.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+RenderSession::RenderSession(vk::Context& context, const Scene& scene,
+                             const RenderSettings& settings, int width, int height)
+    : m_context(context), m_settings(settings), m_width(width), m_height(height) {
+    m_layout = std::make_unique<vk::PipelineLayout>(context);
+    m_scene = std::make_unique<GpuScene>(context, *m_layout, scene, settings.camera, width, height);
+    m_timer = std::make_unique<vk::GpuTimer>(context);
+    m_film = std::make_unique<Film>(context, width, height);
+    m_progress = std::make_unique<Progress>(settings.method, !settings.quiet);
+    m_start = std::chrono::steady_clock::now();
+}
+
+void RenderSession::startClock() { m_start = std::chrono::steady_clock::now(); }
+
+double RenderSession::elapsedSeconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+}
+
+bool RenderSession::timeUp() const {
+    return m_settings.timeLimit > 0.0 && elapsedSeconds() >= m_settings.timeLimit;
+}
+
+bool RenderSession::interrupted() const { return interruptRequested(); }
+
+bool RenderSession::shouldStop() const { return interrupted() || timeUp(); }
+
+double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevice() ? 0.05 : 0.02; }
+
+double RenderSession::targetBatchSeconds() const { return m_context.isCpuDevice() ? 0.25 : 0.1; }
+
+DispatchSizer::DispatchSizer(uint32_t initialUnits, uint32_t maxUnits, double targetSeconds)
+    : m_units(std::clamp<uint32_t>(initialUnits, 1u, std::max(maxUnits, 1u))),
+      m_max(std::max(maxUnits, 1u)),
+      m_target(targetSeconds) {}
+
+void DispatchSizer::record(uint64_t units, double seconds) {
+    if (units == 0 || seconds <= 0.0) return;
+    const double perUnit = seconds / double(units);
+    // Move halfway (in log space) towards the size that meets the target, never more than 4x.
+    const double ideal = m_target / perUnit;
+    const double next = std::sqrt(double(m_units) * ideal);
+    const double clamped = std::clamp(next, double(m_units) / 4.0, double(m_units) * 4.0);
+    m_units = uint32_t(std::clamp(clamped, 1.0, double(m_max)));
+}
+
+}  // namespace pmcr

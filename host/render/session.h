@@ -1,0 +1,90 @@
+// Everything a method needs while it renders: the device, the scene on the device, the film,
+// GPU timing, counters, the clock and stop conditions (time budget, Ctrl-C), and progress.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/progress.h"
+#include "image/image.h"
+#include "render/film.h"
+#include "render/gpu_scene.h"
+#include "render/settings.h"
+#include "vk/gpu_timer.h"
+#include "vk/pipeline.h"
+
+namespace pmcr {
+
+// The result of a render: the image, the diagnostic images the method produces (alpha maps,
+// strategy images, sample counts...), sample counts and method-specific statistics.
+struct RenderOutput {
+    Image image;
+    std::vector<std::pair<std::string, Image>> diagnostics;  // (suffix, image), e.g. ("samples", ...)
+    uint64_t cameraSamples = 0;                             // path-traced camera samples taken
+    double samplesPerPixel = 0.0;                           // cameraSamples / pixels
+    nlohmann::json methodStats = nlohmann::json::object();
+};
+
+class RenderSession {
+public:
+    RenderSession(vk::Context& context, const Scene& scene, const RenderSettings& settings,
+                  int width, int height);
+
+    vk::Context& context() { return m_context; }
+    const vk::PipelineLayout& layout() const { return *m_layout; }
+    const GpuScene& scene() const { return *m_scene; }
+    const RenderSettings& settings() const { return m_settings; }
+    vk::GpuTimer& timer() { return *m_timer; }
+    Film& film() { return *m_film; }
+    Counters& counters() { return m_counters; }
+    Progress& progress() { return *m_progress; }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+    // The render clock starts when the method starts rendering (after scene upload and BVH).
+    void startClock();
+    double elapsedSeconds() const;
+    bool timeUp() const;
+    // Interrupted by the user or out of time: stop at the next batch boundary.
+    bool shouldStop() const;
+    bool interrupted() const;
+
+    // Seconds a dispatch should take: short on a CPU device so the machine stays responsive,
+    // and well under any GPU watchdog.
+    double targetDispatchSeconds() const;
+    double targetBatchSeconds() const;
+
+private:
+    vk::Context& m_context;
+    RenderSettings m_settings;
+    int m_width;
+    int m_height;
+    std::unique_ptr<vk::PipelineLayout> m_layout;
+    std::unique_ptr<GpuScene> m_scene;
+    std::unique_ptr<vk::GpuTimer> m_timer;
+    std::unique_ptr<Film> m_film;
+    std::unique_ptr<Progress> m_progress;
+    Counters m_counters;
+    std::chrono::steady_clock::time_point m_start;
+};
+
+// Chooses how much work goes into one dispatch from the throughput measured so far, so that a
+// dispatch takes about `targetSeconds` on any device.
+class DispatchSizer {
+public:
+    DispatchSizer(uint32_t initialUnits, uint32_t maxUnits, double targetSeconds);
+    uint32_t units() const { return m_units; }
+    // `units` work units took `seconds` of wall time.
+    void record(uint64_t units, double seconds);
+
+private:
+    uint32_t m_units;
+    uint32_t m_max;
+    double m_target;
+};
+
+}  // namespace pmcr

@@ -1,0 +1,47 @@
+#include "render/settings.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.h"
+
+namespace pmcr {
+
+int RenderSettings::optionInt(const std::string& name, int defaultValue) const {
+    auto it = options.find(name);
+    if (it == options.end()) return defaultValue;
+    char* end = nullptr;
+    errno = 0;
+    long v = std::strtol(it->second.c_str(), &end, 10);
+    if (it->second.empty() || *end != '\0' || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
+        throw Error("--" + name + ": expected an integer, got '" + it->second + "'");
+    return int(v);
+}
+
+double RenderSettings::optionDouble(const std::string& name, double defaultValue) const {
+    auto it = options.find(name);
+    if (it == options.end()) return defaultValue;
+    char* end = nullptr;
+    errno = 0;
+    double v = std::strtod(it->second.c_str(), &end);
+    if (it->second.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+        throw Error("--" + name + ": expected a number, got '" + it->second + "'");
+    return v;
+}
+
+bool RenderSettings::optionBool(const std::string& name, bool defaultValue) const {
+    auto it = options.find(name);
+    if (it == options.end()) return defaultValue;
+    if (it->second == "1" || it->second == "true" || it->second == "on") return true;
+    if (it->second == "0" || it->second == "false" || it->second == "off") return false;
+    throw Error("--" + name + ": expected on/off, got '" + it->second + "'");
+}
+
+std::string RenderSettings::optionString(const std::string& name,
+                                         const std::string& defaultValue) const {
+    auto it = options.find(name);
+    return it == options.end() ? defaultValue : it->second;
+}
+
+}  // namespace pmcr

@@ -1,0 +1,34 @@
+// What the user asked a render to do: method, budget, image size, seed and method options.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace pmcr {
+
+struct RenderSettings {
+    std::string method = "pt";
+    int width = 0;            // 0: the scene's default size, else 640 wide at the camera's aspect
+    int height = 0;
+    uint32_t spp = 0;         // samples per pixel (0: the method's default unless --time is given)
+    double timeLimit = 0.0;   // seconds of rendering; 0 = no limit
+    uint32_t seed = 1;
+    uint32_t maxDepth = 16;   // bounces (pbrt-v4 semantics: 1 = direct lighting only)
+    uint32_t rrDepth = 3;     // Russian roulette from this bounce on
+    int camera = 0;
+    bool quiet = false;
+    std::string device;       // --device
+    bool validate = false;
+    // Method-specific options (--chain-length 100 -> {"chain-length", "100"}), checked against
+    // the method's declared options (render/methods.h).
+    std::map<std::string, std::string> options;
+
+    // Typed access to an option with a default; throws pmcr::Error on a malformed value.
+    int optionInt(const std::string& name, int defaultValue) const;
+    double optionDouble(const std::string& name, double defaultValue) const;
+    bool optionBool(const std::string& name, bool defaultValue) const;
+    std::string optionString(const std::string& name, const std::string& defaultValue) const;
+};
+
+}  // namespace pmcr

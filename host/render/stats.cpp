@@ -1,0 +1,62 @@
+#include "render/stats.h"
+
+#include <fstream>
+
+#include "core/error.h"
+#include "image/image.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
+                           const std::filesystem::path& scenePath, double renderSeconds) {
+    const RenderSettings& s = session.settings();
+    nlohmann::json j;
+    j["pmcr_version"] = PMCR_VERSION;
+    j["method"] = s.method;
+    j["scene"] = scenePath.string();
+    j["camera"] = s.camera;
+    j["device"] = session.context().deviceName();
+    j["device_type"] = session.context().deviceTypeName();
+    j["width"] = session.width();
+    j["height"] = session.height();
+    j["seed"] = s.seed;
+    j["max_depth"] = s.maxDepth;
+    j["rr_depth"] = s.rrDepth;
+    j["spp_requested"] = s.spp;
+    j["time_limit_seconds"] = s.timeLimit;
+    j["samples"] = output.cameraSamples;
+    j["spp"] = output.samplesPerPixel;
+    j["render_seconds"] = renderSeconds;
+    j["bvh_build_seconds"] = session.scene().bvhBuildSeconds();
+    j["triangles"] = session.scene().scene().triangles.size();
+    j["bvh_nodes"] = session.scene().bvh().nodes().size();
+    j["rays"] = session.counters().rays();
+    j["rays_per_second"] = renderSeconds > 0.0 ? double(session.counters().rays()) / renderSeconds : 0.0;
+    j["nan_samples_dropped"] = session.counters().nanDropped();
+    j["interrupted"] = session.interrupted();
+    j["options"] = s.options;
+    nlohmann::json kernels = nlohmann::json::object();
+    for (const auto& [name, total] : session.timer().totals())
+        kernels[name] = {{"milliseconds", total.milliseconds}, {"dispatches", total.dispatches}};
+    j["gpu_kernels"] = kernels;
+    j["gpu_milliseconds"] = session.timer().totalMilliseconds();
+    j["method_stats"] = output.methodStats;
+    return j;
+}
+
+std::filesystem::path statsPathFor(const std::filesystem::path& image) {
+    std::filesystem::path p = image;
+    return p.replace_extension(".json");
+}
+
+void writeJsonAtomically(const std::filesystem::path& path, const nlohmann::json& json) {
+    writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream out(tmp);
+        out << json.dump(2) << "\n";
+        out.close();
+        if (!out) throw Error(tmp.string() + ": write failed");
+    });
+}
+
+}  // namespace pmcr

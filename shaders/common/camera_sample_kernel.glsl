@@ -1,0 +1,67 @@
+// The body shared by the per-camera-sample kernels (pt, pt_record, direct): where each
+// invocation's camera samples come from (a tile of pixels, a list of requested pixel samples,
+// or given raster positions), and where their estimates go (film, results buffer).
+// The including .comp defines `vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint
+// rays, uint recordIndex)` before including this file.
+#ifndef PMCR_CAMERA_SAMPLE_KERNEL_GLSL
+#define PMCR_CAMERA_SAMPLE_KERNEL_GLSL
+
+layout(set = WORK_SET, binding = PT_BINDING_REQUESTS, scalar) readonly buffer RequestBuffer {
+    SampleRequest requests[];
+};
+layout(set = WORK_SET, binding = PT_BINDING_RESULTS, scalar) writeonly buffer ResultBuffer {
+    vec4 results[];
+};
+
+vec2 pixelCorner(uint pixel) {
+    return vec2(float(pixel % sceneInfo.width), float(pixel / sceneInfo.width));
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint rays = 0u;
+    uint dropped = 0u;
+    uint paths = 0u;
+    if (i < push.invocationCount) {
+        if (push.source == PT_SOURCE_TILE) {
+            // One invocation per pixel, all its samples: each pixel has one writer per dispatch,
+            // so the film sums are deterministic.
+            uint pixel = push.pixelOffset + i;
+            PixelAccumulator acc = accumulatorCreate();
+            for (uint k = 0u; k < push.samplesPerPixel; ++k) {
+                Sampler s = samplerCreate(pixel, push.sampleBase + k, push.seed);
+                vec2 raster = pixelCorner(pixel) + samplerGet2D(s);
+                accumulatorAdd(acc, estimateRadiance(raster, s, rays,
+                                                     push.recordOffset + i * push.samplesPerPixel + k));
+            }
+            if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
+                filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
+            dropped = acc.dropped;
+            paths = acc.count;
+        } else {
+            SampleRequest r = requests[i];
+            Sampler s = samplerCreate(r.pixel, r.sampleIndex, push.seed);
+            vec2 raster = r.raster;
+            uint pixel = r.pixel;
+            if (push.source == PT_SOURCE_LIST) {
+                raster = pixelCorner(r.pixel) + samplerGet2D(s);
+            } else {
+                raster = clamp(raster, vec2(0.0),
+                               vec2(sceneInfo.width, sceneInfo.height) * ONE_MINUS_EPSILON);
+                pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
+            }
+            PixelAccumulator acc = accumulatorCreate();
+            accumulatorAdd(acc, estimateRadiance(raster, s, rays, push.recordOffset + i));
+            if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
+                filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
+            if ((push.flags & PT_FLAG_WRITE_RESULTS) != 0u) results[i] = vec4(acc.sum, acc.lumSum);
+            dropped = acc.dropped;
+            paths = 1u;
+        }
+    }
+    counterAdd(COUNTER_RAYS, rays);
+    counterAdd(COUNTER_NAN_DROPPED, dropped);
+    counterAdd(COUNTER_PATHS, paths);
+}
+
+#endif

@@ -1,0 +1,50 @@
+// Area light sampling: an emitter triangle chosen in proportion to its power through the alias
+// table, then a point uniform in its area. The selection probability is recomputed from the
+// same power formula as the host (host/scene/scene.cpp emitterPower), so the MIS weight of a
+// BSDF-sampled hit uses exactly the density light sampling has.
+#ifndef PMCR_LIGHTS_GLSL
+#define PMCR_LIGHTS_GLSL
+
+#include "common/sampling.glsl"
+#include "common/scene.glsl"
+
+// Power of an emitter triangle: area * luminance(Le) * pi * (2 if double-sided).
+float emitterPower(uint tri) {
+    Material m = materials[triangles[tri].material];
+    float sides = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 2.0 : 1.0;
+    return triangleArea(tri) * luminance(m.emission) * PI * sides;
+}
+
+// Probability of selecting triangle `tri` when sampling lights.
+float emitterSelectPmf(uint tri) { return emitterPower(tri) / sceneInfo.totalEmitterPower; }
+
+// Density, per unit area of the emitter, of light sampling producing a point on triangle `tri`.
+float emitterAreaPdf(uint tri) { return emitterSelectPmf(tri) / triangleArea(tri); }
+
+struct LightSample {
+    SurfacePoint point;
+    float pdfArea;     // selection pmf / triangle area
+};
+
+// Picks an emitter with uSelect (alias table) and a point on it with uPoint.
+LightSample sampleLight(float uSelect, vec2 uPoint) {
+    uint n = sceneInfo.emitterCount;
+    float scaled = uSelect * float(n);
+    uint slot = min(uint(scaled), n - 1u);
+    Emitter e = emitters[slot];
+    uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle : emitters[e.alias].triangle;
+    LightSample ls;
+    ls.point = surfaceAt(tri, sampleUniformTriangle(uPoint));
+    ls.pdfArea = emitterAreaPdf(tri);
+    return ls;
+}
+
+// Converts an area density at `lightPoint` (seen from `from`) to solid angle: p_A d^2 / |cos|.
+float areaToSolidAngle(float pdfArea, vec3 from, vec3 lightPoint, vec3 lightNormal) {
+    vec3 d = lightPoint - from;
+    float dist2 = dot(d, d);
+    float cosLight = abs(dot(lightNormal, d)) * inversesqrt(dist2);
+    return cosLight > 0.0 ? pdfArea * dist2 / cosLight : 0.0;
+}
+
+#endif

@@ -1,0 +1,72 @@
+// The path tracer's sample generator: per pixel, a padded (0,2)-sequence (pbrt-v4
+// PaddedSobolSampler). Each dimension pair draws point `index` of the first two Sobol
+// dimensions, with the index shuffled and the point Owen-scrambled by hashes of (pixel, pair)
+// (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)). Any prefix of 2^k samples
+// of a pixel is therefore a (0,k,2)-net in every pair: samples are stratified within the pixel
+// whatever the sample count, which PMC-IP's varying per-pixel counts rely on.
+#ifndef PMCR_SAMPLER_GLSL
+#define PMCR_SAMPLER_GLSL
+
+#include "common/rng.glsl"
+
+// Laine-Karras style hash permutation: bit k of the result depends only on bits <= k of x
+// (Burley 2020, listing 2 constants).
+uint laineKarrasPermutation(uint x, uint seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// Owen scrambling of a 32-bit fixed-point number in [0, 1) (Burley 2020, sec. 4).
+uint nestedUniformScramble(uint x, uint seed) {
+    return bitfieldReverse(laineKarrasPermutation(bitfieldReverse(x), seed));
+}
+
+// Sobol dimension 1: direction numbers v_1 = 1/2, v_{k+1} = v_k xor (v_k >> 1).
+uint sobolSecondDimension(uint index) {
+    uint v = 1u << 31;
+    uint result = 0u;
+    for (uint k = 0u; k < 32u && index != 0u; ++k) {
+        if ((index & 1u) != 0u) result ^= v;
+        index >>= 1;
+        v ^= v >> 1;
+    }
+    return result;
+}
+
+struct Sampler {
+    uint seed;       // hash of (pixel or stream, render seed)
+    uint index;      // sample index within the pixel's sequence
+    uint dimension;  // next dimension pair
+};
+
+Sampler samplerCreate(uint pixel, uint sampleIndex, uint renderSeed) {
+    Sampler s;
+    s.seed = hashCombine(pixel, renderSeed);
+    s.index = sampleIndex;
+    s.dimension = 0u;
+    return s;
+}
+
+vec2 samplerGet2D(inout Sampler s) {
+    uint dimSeed = hashCombine(s.seed, s.dimension);
+    s.dimension += 1u;
+    // Shuffle the index (an Owen scramble of the index keeps aligned blocks of 2^k samples
+    // together, so prefixes stay nets), then scramble each coordinate.
+    uint i = nestedUniformScramble(s.index, dimSeed);
+    uint x = nestedUniformScramble(bitfieldReverse(i), hashPcg(dimSeed ^ 0x68bc21ebu));
+    uint y = nestedUniformScramble(sobolSecondDimension(i), hashPcg(dimSeed ^ 0x02e5be93u));
+    return vec2(uintToUnitFloat(x), uintToUnitFloat(y));
+}
+
+float samplerGet1D(inout Sampler s) {
+    uint dimSeed = hashCombine(s.seed, s.dimension);
+    s.dimension += 1u;
+    uint i = nestedUniformScramble(s.index, dimSeed);
+    return uintToUnitFloat(nestedUniformScramble(bitfieldReverse(i), hashPcg(dimSeed ^ 0x68bc21ebu)));
+}
+
+#endif

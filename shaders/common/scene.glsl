@@ -1,0 +1,112 @@
+// Scene buffers (set 0) and what kernels derive from a ray hit.
+// Include once per kernel, before anything that reads the scene.
+#ifndef PMCR_SCENE_GLSL
+#define PMCR_SCENE_GLSL
+
+#include "common/math.glsl"
+
+layout(set = SCENE_SET, binding = BINDING_SCENE_INFO, scalar) uniform SceneInfoBlock {
+    SceneInfo sceneInfo;
+};
+layout(set = SCENE_SET, binding = BINDING_VERTICES, scalar) readonly buffer VertexBuffer {
+    Vertex vertices[];
+};
+layout(set = SCENE_SET, binding = BINDING_TRIANGLES, scalar) readonly buffer TriangleBuffer {
+    Triangle triangles[];
+};
+layout(set = SCENE_SET, binding = BINDING_ISECT_TRIANGLES, scalar) readonly buffer IsectBuffer {
+    IsectTriangle isectTriangles[];
+};
+layout(set = SCENE_SET, binding = BINDING_BVH_NODES, scalar) readonly buffer BvhBuffer {
+    BvhNode bvhNodes[];
+};
+layout(set = SCENE_SET, binding = BINDING_MATERIALS, scalar) readonly buffer MaterialBuffer {
+    Material materials[];
+};
+layout(set = SCENE_SET, binding = BINDING_EMITTERS, scalar) readonly buffer EmitterBuffer {
+    Emitter emitters[];
+};
+layout(set = SCENE_SET, binding = BINDING_TEXTURE_INFOS, scalar) readonly buffer TextureInfoBuffer {
+    TextureInfo textureInfos[];
+};
+layout(set = SCENE_SET, binding = BINDING_TEXELS, scalar) readonly buffer TexelBuffer {
+    uint texels[];
+};
+
+#include "common/bvh.glsl"
+
+// A point on a surface, as the integrators use it.
+struct SurfacePoint {
+    vec3 position;
+    vec3 normal;         // geometric, unit, as wound (front face = CCW)
+    vec3 shadingNormal;  // unit, on the same side as `normal`
+    vec2 uv;
+    uint triangle;
+    uint material;
+};
+
+// Twice the triangle's area times its unit normal.
+vec3 triangleCross(uint tri) {
+    Triangle t = triangles[tri];
+    vec3 p0 = vertices[t.i0].position;
+    return cross(vertices[t.i1].position - p0, vertices[t.i2].position - p0);
+}
+float triangleArea(uint tri) { return 0.5 * length(triangleCross(tri)); }
+
+// Surface point at barycentrics (b1, b2) of triangle `tri` (b0 = 1 - b1 - b2).
+SurfacePoint surfaceAt(uint tri, vec2 b) {
+    Triangle t = triangles[tri];
+    Vertex v0 = vertices[t.i0];
+    Vertex v1 = vertices[t.i1];
+    Vertex v2 = vertices[t.i2];
+    float b0 = 1.0 - b.x - b.y;
+    SurfacePoint s;
+    s.position = b0 * v0.position + b.x * v1.position + b.y * v2.position;
+    s.normal = normalize(cross(v1.position - v0.position, v2.position - v0.position));
+    vec3 ns = b0 * v0.normal + b.x * v1.normal + b.y * v2.normal;
+    float len2 = dot(ns, ns);
+    s.shadingNormal = len2 > 1e-12 ? ns * inversesqrt(len2) : s.normal;
+    if (dot(s.shadingNormal, s.normal) < 0.0) s.shadingNormal = -s.shadingNormal;
+    s.uv = b0 * vec2(v0.u, v0.v) + b.x * vec2(v1.u, v1.v) + b.y * vec2(v2.u, v2.v);
+    s.triangle = tri;
+    s.material = t.material;
+    return s;
+}
+
+// sRGB EOTF (IEC 61966-2-1).
+vec3 srgbToLinear(vec3 c) {
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
+}
+
+vec3 texelAt(TextureInfo info, int x, int y) {
+    // REPEAT wrapping.
+    x = int(uint(x % int(info.width) + int(info.width)) % info.width);
+    y = int(uint(y % int(info.height) + int(info.height)) % info.height);
+    return srgbToLinear(unpackUnorm4x8(texels[info.offset + uint(y) * info.width + uint(x)]).rgb);
+}
+
+// Bilinear lookup of a base colour texture; uv (0,0) is the image's top-left (glTF).
+vec3 sampleTexture(int index, vec2 uv) {
+    TextureInfo info = textureInfos[index];
+    vec2 p = uv * vec2(info.width, info.height) - 0.5;
+    vec2 f = p - floor(p);
+    int x = int(floor(p.x));
+    int y = int(floor(p.y));
+    return mix(mix(texelAt(info, x, y), texelAt(info, x + 1, y), f.x),
+               mix(texelAt(info, x, y + 1), texelAt(info, x + 1, y + 1), f.x), f.y);
+}
+
+vec3 materialBaseColor(Material m, vec2 uv) {
+    return m.baseColorTexture >= 0 ? m.baseColor * sampleTexture(m.baseColorTexture, uv) : m.baseColor;
+}
+
+// Radiance emitted by a surface towards direction w (unit, away from the surface): area lights
+// emit from their front face only unless the material is double-sided (pbrt, Mitsuba).
+vec3 emittedRadiance(SurfacePoint s, vec3 w) {
+    Material m = materials[s.material];
+    if (maxComponent(m.emission) <= 0.0) return vec3(0.0);
+    if (dot(s.normal, w) > 0.0 || (m.flags & MATERIAL_DOUBLE_SIDED) != 0u) return m.emission;
+    return vec3(0.0);
+}
+
+#endif

@@ -1,0 +1,68 @@
+// A shading point: the surface hit, its BSDF and local frame, with the geometric-normal checks
+// that keep shading normals from leaking light (pbrt-v3 sec. 9.1: a direction must be on the
+// same side of the geometric and the shading normal).
+#ifndef PMCR_SHADING_GLSL
+#define PMCR_SHADING_GLSL
+
+#include "common/bsdf.glsl"
+#include "common/scene.glsl"
+
+struct ShadingPoint {
+    SurfacePoint surface;
+    Frame frame;        // z = shading normal on the side of wo
+    vec3 ng;            // geometric normal on the side of wo
+    vec3 woLocal;
+    bool front;         // wo is on the front (CCW) side
+    Bsdf bsdf;
+};
+
+ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
+    ShadingPoint sh;
+    sh.surface = s;
+    sh.front = dot(s.normal, wo) > 0.0;
+    sh.ng = sh.front ? s.normal : -s.normal;
+    sh.frame = frameFromNormal(sh.front ? s.shadingNormal : -s.shadingNormal);
+    sh.woLocal = toLocal(sh.frame, wo);
+    Material m = materials[s.material];
+    sh.bsdf = makeBsdf(materialBaseColor(m, s.uv), m.metallic, m.roughness, m.transmission, m.ior,
+                       sh.front);
+    return sh;
+}
+
+// BSDF value and sampling density for a world direction wi, zero when the geometric and the
+// shading normal disagree about the side of wi.
+vec3 shadingEval(ShadingPoint sh, vec3 wi, out float pdf, out float absCos) {
+    vec3 wiLocal = toLocal(sh.frame, wi);
+    pdf = 0.0;
+    absCos = abs(wiLocal.z);
+    if ((dot(wi, sh.ng) > 0.0) != (wiLocal.z > 0.0)) return vec3(0.0);
+    pdf = bsdfPdf(sh.bsdf, sh.woLocal, wiLocal);
+    return bsdfEval(sh.bsdf, sh.woLocal, wiLocal);
+}
+
+// Samples the BSDF; fails when nothing is sampled or the geometric check rejects the direction.
+bool shadingSample(ShadingPoint sh, float uLobe, vec2 u, out BsdfSample s, out vec3 wi) {
+    wi = vec3(0.0);
+    if (!bsdfSample(sh.bsdf, sh.woLocal, uLobe, u, s)) return false;
+    wi = toWorld(sh.frame, s.wi);
+    return (dot(wi, sh.ng) > 0.0) == (s.wi.z > 0.0);
+}
+
+// Origin for a ray leaving the shading point in direction w.
+vec3 spawnOrigin(ShadingPoint sh, vec3 w) {
+    return offsetRayOrigin(sh.surface.position, dot(w, sh.ng) > 0.0 ? sh.ng : -sh.ng);
+}
+
+// Unoccluded between a shading point and a point on a light (both ends offset off their surfaces).
+bool visible(ShadingPoint sh, SurfacePoint light, inout uint rays) {
+    vec3 toLight = light.position - sh.surface.position;
+    vec3 origin = spawnOrigin(sh, toLight);
+    vec3 target = offsetRayOrigin(light.position,
+                                  dot(toLight, light.normal) < 0.0 ? light.normal : -light.normal);
+    vec3 d = target - origin;
+    float dist = length(d);
+    rays += 1u;
+    return !traceAny(origin, d / dist, dist * (1.0 - 1e-4));
+}
+
+#endif

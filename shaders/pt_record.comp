@@ -1,0 +1,17 @@
+#version 460
+// Path tracing that also writes each sample's path record (ERPT and PMC-ER seeds).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#include "shared/host_device.h"
+#define PT_RECORD_PATHS
+layout(local_size_x = WORKGROUP_SIZE) in;
+layout(push_constant, scalar) uniform PushBlock { PtPush push; };
+
+#include "common/film.glsl"
+#include "common/path_tracer.glsl"
+
+vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint rays, uint recordIndex) {
+    return pathTrace(raster, s, push.maxDepth, push.rrDepth, rays, recordIndex);
+}
+
+#include "common/camera_sample_kernel.glsl"
