@@ -1,0 +1,225 @@
+#include "gltf_writer.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <set>
+
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace pmcr::scenegen {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// glTF 2.0 enumerations (specification section 5).
+constexpr int kFloat = 5126;
+constexpr int kUnsignedInt = 5125;
+constexpr int kArrayBuffer = 34962;
+constexpr int kElementArrayBuffer = 34963;
+
+Json vec3Json(const glm::dvec3& v) {
+    return Json::array({v.x, v.y, v.z});
+}
+
+// Accumulates the binary chunk and the accessors / buffer views that describe it.
+class BufferBuilder {
+public:
+    // One tightly packed buffer view (byteStride omitted) and one accessor over all of it.
+    int addVec3(const std::vector<glm::vec3>& data, bool withBounds) {
+        Json accessor = {
+            {"bufferView", addView(data.data(), data.size() * sizeof(glm::vec3), kArrayBuffer)},
+            {"componentType", kFloat},
+            {"count", data.size()},
+            {"type", "VEC3"}};
+        if (withBounds) {
+            glm::vec3 lo(std::numeric_limits<float>::max());
+            glm::vec3 hi(-std::numeric_limits<float>::max());
+            for (const auto& p : data) {
+                lo = glm::min(lo, p);
+                hi = glm::max(hi, p);
+            }
+            // Exact float values, so that min/max equal the data bit for bit (section 3.6.2.5).
+            accessor["min"] = vec3Json(glm::dvec3(lo));
+            accessor["max"] = vec3Json(glm::dvec3(hi));
+        }
+        m_accessors.push_back(std::move(accessor));
+        return int(m_accessors.size()) - 1;
+    }
+
+    int addIndices(const std::vector<uint32_t>& data) {
+        m_accessors.push_back({{"bufferView", addView(data.data(), data.size() * sizeof(uint32_t),
+                                                      kElementArrayBuffer)},
+                               {"componentType", kUnsignedInt},
+                               {"count", data.size()},
+                               {"type", "SCALAR"}});
+        return int(m_accessors.size()) - 1;
+    }
+
+    const std::vector<uint8_t>& bytes() const { return m_bytes; }
+    Json& accessors() { return m_accessors; }
+    Json& bufferViews() { return m_views; }
+
+private:
+    int addView(const void* data, size_t size, int target) {
+        // Every view starts on a 4-byte boundary (section 3.6.2.4: offsets are multiples of the
+        // component size).
+        m_bytes.resize((m_bytes.size() + 3) & ~size_t(3), 0);
+        const size_t offset = m_bytes.size();
+        m_bytes.resize(offset + size);
+        std::memcpy(m_bytes.data() + offset, data, size);
+        m_views.push_back(
+            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
+        return int(m_views.size()) - 1;
+    }
+
+    std::vector<uint8_t> m_bytes;
+    Json m_accessors = Json::array();
+    Json m_views = Json::array();
+};
+
+Json materialJson(const MaterialDesc& m, std::set<std::string>& extensionsUsed) {
+    Json pbr = {{"baseColorFactor", {m.baseColor.x, m.baseColor.y, m.baseColor.z, 1.0}},
+                {"metallicFactor", m.metallic},
+                {"roughnessFactor", m.roughness}};
+    Json json = {{"name", m.name}, {"pbrMetallicRoughness", pbr}};
+    Json extensions = Json::object();
+    // emissiveFactor is limited to [0, 1]; larger radiance goes into
+    // KHR_materials_emissive_strength (emission = emissiveFactor * emissiveStrength).
+    const double peak = std::max({m.emission.x, m.emission.y, m.emission.z});
+    if (peak > 0.0) {
+        const double strength = std::max(peak, 1.0);
+        json["emissiveFactor"] = vec3Json(m.emission / strength);
+        if (strength > 1.0) {
+            extensions["KHR_materials_emissive_strength"] = {{"emissiveStrength", strength}};
+        }
+    }
+    if (m.transmission > 0.0) {
+        extensions["KHR_materials_transmission"] = {{"transmissionFactor", m.transmission}};
+        extensions["KHR_materials_ior"] = {{"ior", m.ior}};
+        // A volume (thicknessFactor > 0) makes the mesh a solid refracting body rather than a
+        // thin-walled surface.
+        extensions["KHR_materials_volume"] = {{"thicknessFactor", 1.0}};
+    }
+    if (!extensions.empty()) {
+        for (const auto& item : extensions.items())
+            extensionsUsed.insert(item.key());
+        json["extensions"] = std::move(extensions);
+    }
+    return json;
+}
+
+// The camera node's rotation: glTF cameras look down their local -Z with +Y up (section 3.10).
+Json cameraNode(const CameraDesc& c, int cameraIndex) {
+    Json node = {{"name", c.name}, {"camera", cameraIndex}};
+    const glm::dvec3 forward = glm::normalize(c.forward);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, c.up));
+    const glm::dvec3 up = glm::cross(right, forward);
+    const glm::dquat q = glm::quat_cast(glm::dmat3(right, up, -forward));
+    if (std::abs(std::abs(q.w) - 1.0) > 1e-12)
+        node["rotation"] = {q.x, q.y, q.z, q.w};
+    if (c.position != glm::dvec3(0.0))
+        node["translation"] = vec3Json(c.position);
+    return node;
+}
+
+void appendU32(std::vector<uint8_t>& out, uint32_t v) {
+    for (int i = 0; i < 4; ++i)
+        out.push_back(uint8_t(v >> (8 * i)));
+}
+
+}  // namespace
+
+void writeGlb(const SceneDesc& scene, const std::filesystem::path& path) {
+    const std::string file = path.string();
+    BufferBuilder buffer;
+    std::set<std::string> extensionsUsed;
+
+    Json materials = Json::array();
+    for (const auto& m : scene.materials)
+        materials.push_back(materialJson(m, extensionsUsed));
+
+    Json meshes = Json::array();
+    Json nodes = Json::array();
+    for (const auto& object : scene.objects) {
+        const Mesh& mesh = object.mesh;
+        if (mesh.indices.empty() || mesh.indices.size() % 3 != 0) {
+            fail(file, "mesh '" + mesh.name + "' has no complete triangles");
+        }
+        if (object.material < 0 || object.material >= int(scene.materials.size())) {
+            fail(file, "mesh '" + mesh.name + "' names a material that does not exist");
+        }
+        Json attributes = {{"POSITION", buffer.addVec3(mesh.positions, true)}};
+        if (!mesh.normals.empty())
+            attributes["NORMAL"] = buffer.addVec3(mesh.normals, false);
+        Json primitive = {{"attributes", attributes},
+                          {"indices", buffer.addIndices(mesh.indices)},
+                          {"material", object.material}};
+        meshes.push_back({{"name", mesh.name}, {"primitives", Json::array({primitive})}});
+        nodes.push_back({{"name", mesh.name}, {"mesh", int(meshes.size()) - 1}});
+    }
+    nodes.push_back(cameraNode(scene.camera, 0));
+
+    Json sceneNodes = Json::array();
+    for (size_t i = 0; i < nodes.size(); ++i)
+        sceneNodes.push_back(i);
+
+    Json asset = {{"version", "2.0"}, {"generator", "pmcr-scenegen"}};
+    if (!scene.copyright.empty())
+        asset["copyright"] = scene.copyright;
+    Json root = {{"asset", asset}};
+    if (!extensionsUsed.empty())
+        root["extensionsUsed"] = extensionsUsed;
+    root["scene"] = 0;
+    root["scenes"] = Json::array({{{"name", scene.name}, {"nodes", sceneNodes}}});
+    root["nodes"] = std::move(nodes);
+    root["meshes"] = std::move(meshes);
+    root["materials"] = std::move(materials);
+    // No aspectRatio: the viewport's aspect ratio is used (section 5.13), so --width/--height
+    // can change the image shape without distortion.
+    root["cameras"] = Json::array(
+        {{{"name", scene.camera.name},
+          {"type", "perspective"},
+          {"perspective", {{"yfov", scene.camera.yfov}, {"znear", scene.camera.znear}}}}});
+    root["accessors"] = std::move(buffer.accessors());
+    root["bufferViews"] = std::move(buffer.bufferViews());
+    root["buffers"] = Json::array({{{"byteLength", buffer.bytes().size()}}});
+    root["extras"] = {{"pmcr", {{"width", scene.width}, {"height", scene.height}}}};
+
+    // GLB container: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with zeros,
+    // both to 4-byte multiples (section 4.4).
+    std::string jsonText = root.dump();
+    jsonText.resize((jsonText.size() + 3) & ~size_t(3), ' ');
+    std::vector<uint8_t> bin = buffer.bytes();
+    bin.resize((bin.size() + 3) & ~size_t(3), 0);
+    const size_t total = 12 + 8 + jsonText.size() + 8 + bin.size();
+    if (total > std::numeric_limits<uint32_t>::max())
+        fail(file, "scene too large for a .glb");
+
+    std::vector<uint8_t> out;
+    out.reserve(total);
+    appendU32(out, 0x46546C67u);  // "glTF"
+    appendU32(out, 2u);
+    appendU32(out, uint32_t(total));
+    appendU32(out, uint32_t(jsonText.size()));
+    appendU32(out, 0x4E4F534Au);  // "JSON"
+    out.insert(out.end(), jsonText.begin(), jsonText.end());
+    appendU32(out, uint32_t(bin.size()));
+    appendU32(out, 0x004E4942u);  // "BIN\0"
+    out.insert(out.end(), bin.begin(), bin.end());
+
+    std::ofstream stream(path, std::ios::binary | std::ios::trunc);
+    if (!stream)
+        fail(file, "cannot open for writing");
+    stream.write(reinterpret_cast<const char*>(out.data()), std::streamsize(out.size()));
+    if (!stream)
+        fail(file, "write failed");
+}
+
+}  // namespace pmcr::scenegen

@@ -1,0 +1,90 @@
+// pmcr-scenegen: writes pmcr's procedural scenes as .glb files and validates them.
+//   pmcr-scenegen <output-dir> [scene-name...]   write the named scenes (all if none), then check
+//   pmcr-scenegen --check <file.glb>...           check existing files
+//   pmcr-scenegen --list                          list the scenes
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "gltf_check.h"
+#include "gltf_writer.h"
+#include "scenes.h"
+
+namespace {
+
+void usage() {
+    std::fprintf(stderr,
+                 "usage: pmcr-scenegen <output-dir> [scene-name...]\n"
+                 "       pmcr-scenegen --check <file.glb>...\n"
+                 "       pmcr-scenegen --list\n");
+}
+
+int run(const std::vector<std::string>& args) {
+    using namespace pmcr::scenegen;
+    if (args.empty()) {
+        usage();
+        return 2;
+    }
+    if (args[0] == "--list") {
+        for (const auto& entry : sceneCatalog()) {
+            std::printf("%-18s %s\n", entry.name.c_str(), entry.description.c_str());
+        }
+        return 0;
+    }
+    if (args[0] == "--check") {
+        if (args.size() < 2) {
+            usage();
+            return 2;
+        }
+        for (size_t i = 1; i < args.size(); ++i) {
+            std::printf("%s\n", formatReport(args[i], checkGlb(args[i])).c_str());
+        }
+        return 0;
+    }
+    if (args[0].starts_with("-")) {
+        usage();
+        return 2;
+    }
+
+    const std::filesystem::path outDir = args[0];
+    std::vector<const SceneEntry*> selected;
+    for (size_t i = 1; i < args.size(); ++i) {
+        const SceneEntry* found = nullptr;
+        for (const auto& entry : sceneCatalog()) {
+            if (entry.name == args[i])
+                found = &entry;
+        }
+        if (!found)
+            pmcr::fail("", "unknown scene '" + args[i] + "' (see --list)");
+        selected.push_back(found);
+    }
+    if (selected.empty()) {
+        for (const auto& entry : sceneCatalog())
+            selected.push_back(&entry);
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(outDir, ec);
+    if (ec)
+        pmcr::fail(outDir.string(), "cannot create directory: " + ec.message());
+    for (const SceneEntry* entry : selected) {
+        const auto path = outDir / (entry->name + ".glb");
+        writeGlb(entry->build(), path);
+        std::printf("%s\n", formatReport(path, checkGlb(path)).c_str());
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(std::vector<std::string>(argv + 1, argv + argc));
+    } catch (const pmcr::Error& e) {
+        std::fprintf(stderr, "pmcr-scenegen: %s\n", e.what());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "pmcr-scenegen: %s\n", e.what());
+    }
+    return 1;
+}

@@ -1,0 +1,42 @@
+// Triangle meshes for the procedural scenes: quads from corner lists, icospheres, and helpers
+// that fix the winding so that front faces (counter-clockwise, glTF 2.0 section 3.7.2.1) point
+// where the scene needs them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace pmcr::scenegen {
+
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;  // empty: flat shading (the geometric normal)
+    std::vector<uint32_t> indices;   // three per triangle
+
+    size_t triangleCount() const { return indices.size() / 3; }
+    glm::dvec3 geometricNormal(size_t triangle) const;  // cross(p1 - p0, p2 - p0), unnormalized
+    glm::dvec3 centroid(size_t triangle) const;
+};
+
+// Quads given as consecutive groups of four corners (in order around the quad), each split
+// into triangles (0, 1, 2) and (0, 2, 3).
+Mesh quads(std::string name, const std::vector<glm::vec3>& corners);
+
+// A geodesic sphere: an icosahedron subdivided `subdivisions` times (20 * 4^n triangles), its
+// vertices projected onto the sphere. With smooth == true every vertex carries its exact radial
+// normal (pointing out, or in when inward == true); otherwise the mesh has no normals.
+// inward == true turns the front faces towards the centre.
+Mesh icosphere(std::string name, const glm::dvec3& center, double radius, int subdivisions,
+               bool smooth, bool inward);
+
+// Flip triangles whose front face points away from (towards, when away == true) `point`.
+void orientTowards(Mesh& mesh, const glm::dvec3& point, bool away);
+
+// Flip triangles whose front face does not point along `direction`.
+void orientAlong(Mesh& mesh, const glm::dvec3& direction);
+
+}  // namespace pmcr::scenegen
