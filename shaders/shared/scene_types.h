@@ -20,6 +20,7 @@ PMCR_CHECK_SIZE(Triangle, 16);
 
 // Intersection-ready triangle in BVH leaf order (Moller-Trumbore form):
 // v0.xyz = first vertex, v0.w = uintBitsToFloat(original triangle index), e1 = v1 - v0, e2 = v2 - v0.
+// e1.w and e2.w are unused (0).
 struct IsectTriangle {
     vec4 v0;
     vec4 e1;
@@ -27,9 +28,9 @@ struct IsectTriangle {
 };
 PMCR_CHECK_SIZE(IsectTriangle, 48);
 
-// Flattened binary BVH node. Interior (count == 0): children are nodes leftOrFirst and
-// leftOrFirst + 1. Leaf (count > 0): IsectTriangles [leftOrFirst, leftOrFirst + count).
-// axis (bits 30..31 of count for interiors) is the split axis, used for front-to-back order.
+// Flattened binary BVH (host/scene/bvh.h). Node 0 is the root. Interior (count == 0): children
+// are nodes leftOrFirst and leftOrFirst + 1, so one fetch of 64 bytes reads both child boxes.
+// Leaf (count > 0): IsectTriangles [leftOrFirst, leftOrFirst + count).
 struct BvhNode {
     vec3 boundsMin;
     uint leftOrFirst;
@@ -37,6 +38,42 @@ struct BvhNode {
     uint count;
 };
 PMCR_CHECK_SIZE(BvhNode, 32);
+
+// Build limits. Leaves hold at most BVH_MAX_LEAF_TRIANGLES; the root has depth 0 and every
+// leaf has depth <= BVH_MAX_DEPTH. Near-child-first traversal pushes at most one sibling per
+// level, so a stack of BVH_MAX_DEPTH entries never overflows (shaders/common/bvh.glsl).
+PMCR_CONST uint BVH_MAX_DEPTH = 64;
+PMCR_CONST uint BVH_MAX_LEAF_TRIANGLES = 4;
+// Ray/box exit distances are scaled by 1 + 2 gamma(3) (pbrt-v4 section 6.8.7, Bounds3::IntersectP)
+// so that rounding never culls a box the ray actually crosses.
+PMCR_CONST float BVH_BOX_EXIT_SCALE = 1.00000036f;
+// Direction components smaller than this in magnitude are replaced by +-BVH_MIN_DIRECTION
+// before taking the reciprocal, so slab distances are finite and never 0 * inf = NaN.
+PMCR_CONST float BVH_MIN_DIRECTION = 1e-30f;
+// The builder pads node bounds outwards by at least this much (host/scene/bvh.cpp), so a ray
+// on a face plane of the unpadded box with a zero direction component is never culled.
+PMCR_CONST float BVH_MIN_BOUNDS_PAD = 1e-15f;
+
+PMCR_CONST uint BVH_NO_HIT = 0xFFFFFFFFu;  // Hit.triangle of a miss
+
+// Closest hit of a ray origin + t * direction (direction need not be unit length):
+// hit point = (1 - b1 - b2) * v0 + b1 * v1 + b2 * v2 of original triangle `triangle`.
+struct Hit {
+    float t;
+    uint triangle;
+    float b1;
+    float b2;
+};
+PMCR_CHECK_SIZE(Hit, 16);
+
+// One ray of the BVH test kernel (shaders/tests/bvh_trace_test.comp).
+struct BvhQuery {
+    vec3 origin;
+    float tMax;
+    vec3 direction;
+    uint pad;
+};
+PMCR_CHECK_SIZE(BvhQuery, 32);
 
 // Material flags.
 PMCR_CONST uint MATERIAL_DOUBLE_SIDED = 1u;   // emits from both faces; two-sided shading
