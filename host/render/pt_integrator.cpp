@@ -26,6 +26,8 @@ RenderOutput PathTracer::render(RenderSession& session) {
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     work.bind(gpu::PT_BINDING_FILM, film.pixels());
     work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
+    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
 
     const uint32_t pixels = film.pixelCount();
     // Without a sample count, a time limit alone decides when to stop.

@@ -16,6 +16,8 @@ RenderSession::RenderSession(vk::Context& context, const Scene& scene,
     m_timer = std::make_unique<vk::GpuTimer>(context);
     m_film = std::make_unique<Film>(context, width, height);
     m_progress = std::make_unique<Progress>(settings.method, !settings.quiet);
+    m_placeholder = vk::Buffer(context, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "placeholder");
+    m_placeholder.fill(0);
     m_start = std::chrono::steady_clock::now();
 }
 

@@ -40,6 +40,10 @@ public:
     const RenderSettings& settings() const { return m_settings; }
     vk::GpuTimer& timer() { return *m_timer; }
     Film& film() { return *m_film; }
+    // A small buffer for work-set bindings a kernel declares but the current mode never reads
+    // (e.g. the request list of pt in tile mode): Vulkan requires every statically used
+    // descriptor to be valid.
+    const vk::Buffer& placeholder() const { return m_placeholder; }
     Counters& counters() { return m_counters; }
     Progress& progress() { return *m_progress; }
     int width() const { return m_width; }
@@ -68,6 +72,7 @@ private:
     std::unique_ptr<vk::GpuTimer> m_timer;
     std::unique_ptr<Film> m_film;
     std::unique_ptr<Progress> m_progress;
+    vk::Buffer m_placeholder;
     Counters m_counters;
     std::chrono::steady_clock::time_point m_start;
 };
