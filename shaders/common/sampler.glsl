@@ -25,16 +25,18 @@ uint nestedUniformScramble(uint x, uint seed) {
     return bitfieldReverse(laineKarrasPermutation(bitfieldReverse(x), seed));
 }
 
-// Sobol dimension 1: direction numbers v_1 = 1/2, v_{k+1} = v_k xor (v_k >> 1).
+// Sobol dimension 1: direction numbers v_1 = 1/2, v_{k+1} = v_k xor (v_k >> 1), i.e. the
+// generator matrix is Pascal's triangle mod 2. By Lucas' theorem, entry (r, c) is 1 when the bits
+// of r are a subset of those of c, so the product is a subset-XOR (zeta) transform of the
+// bit-reversed index: five masked shift-XORs instead of one step per index bit.
 uint sobolSecondDimension(uint index) {
-    uint v = 1u << 31;
-    uint result = 0u;
-    for (uint k = 0u; k < 32u && index != 0u; ++k) {
-        if ((index & 1u) != 0u) result ^= v;
-        index >>= 1;
-        v ^= v >> 1;
-    }
-    return result;
+    uint x = bitfieldReverse(index);
+    x ^= (x << 1) & 0xAAAAAAAAu;
+    x ^= (x << 2) & 0xCCCCCCCCu;
+    x ^= (x << 4) & 0xF0F0F0F0u;
+    x ^= (x << 8) & 0xFF00FF00u;
+    x ^= (x << 16) & 0xFFFF0000u;
+    return x;
 }
 
 struct Sampler {
