@@ -210,6 +210,80 @@ std::string checkExrHeader(std::span<const uint8_t> bytes, bool tiled) {
     return "";
 }
 
+// tinyexr 1.0.1 decodes a tile whose coordinates put it exactly at the right or bottom edge of
+// its level as 0 pixels wide, then aborts on an assertion. This checks the coordinates of every
+// chunk the tile offset table points to (OpenEXR file layout: after the header, one uint64
+// offset per tile of every level; each chunk starts with int32 tile x, y, level x, level y).
+std::string checkExrTiles(std::span<const uint8_t> bytes, const EXRHeader& header) {
+    const int64_t width = int64_t(header.data_window.max_x) - header.data_window.min_x + 1;
+    const int64_t height = int64_t(header.data_window.max_y) - header.data_window.min_y + 1;
+    const int64_t tileW = header.tile_size_x;
+    const int64_t tileH = header.tile_size_y;
+    const bool roundUp = header.tile_rounding_mode == TINYEXR_TILE_ROUND_UP;
+    // Level counts and sizes of OpenEXR's mipmap and ripmap levels, rounded down or up.
+    const auto roundLog2 = [&](int64_t x) {
+        int log = 0;
+        while ((int64_t(1) << (log + 1)) <= x)
+            ++log;
+        return (roundUp && (int64_t(1) << log) < x) ? log + 1 : log;
+    };
+    const auto levelSize = [&](int64_t size, int level) {
+        int64_t s = size >> level;
+        if (roundUp && (s << level) < size)
+            ++s;
+        return std::max<int64_t>(s, 1);
+    };
+    int levelsX = 1, levelsY = 1;
+    if (header.tile_level_mode == TINYEXR_TILE_MIPMAP_LEVELS) {
+        levelsX = levelsY = roundLog2(std::max(width, height)) + 1;
+    } else if (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS) {
+        levelsX = roundLog2(width) + 1;
+        levelsY = roundLog2(height) + 1;
+    }
+    const auto tiles = [&](int lx, int ly) {
+        return uint64_t((levelSize(width, lx) + tileW - 1) / tileW) *
+               uint64_t((levelSize(height, ly) + tileH - 1) / tileH);
+    };
+    uint64_t count = 0;
+    for (int ly = 0; ly < levelsY; ++ly) {
+        for (int lx = 0; lx < levelsX; ++lx) {
+            if (header.tile_level_mode != TINYEXR_TILE_RIPMAP_LEVELS && lx != ly)
+                continue;
+            count += tiles(lx, ly);
+        }
+    }
+
+    const size_t table = 8 + size_t(header.header_len);
+    if (table > bytes.size() || count > (bytes.size() - table) / 8)
+        return "truncated OpenEXR tile offset table";
+    const auto readInt = [&](size_t at) {
+        uint32_t v = 0;
+        for (int b = 3; b >= 0; --b)
+            v = (v << 8) | bytes[at + size_t(b)];
+        return int32_t(v);
+    };
+    for (uint64_t i = 0; i < count; ++i) {
+        uint64_t offset = 0;
+        for (int b = 7; b >= 0; --b)
+            offset = (offset << 8) | bytes[table + 8 * i + size_t(b)];
+        // tinyexr would guess a missing offset by scanning the chunks; refuse such files.
+        if (offset == 0 || offset >= bytes.size())
+            return "incomplete OpenEXR tile offset table";
+        if (offset + 20 > bytes.size())
+            continue;  // tinyexr reports the missing data
+        const int64_t tx = readInt(offset), ty = readInt(offset + 4);
+        const int lx = readInt(offset + 8), ly = readInt(offset + 12);
+        if (lx < 0 || ly < 0 || lx >= levelsX || ly >= levelsY)
+            continue;  // tinyexr reports the level mismatch
+        if (tx < 0 || ty < 0 || tx * tileW >= levelSize(width, lx) ||
+            ty * tileH >= levelSize(height, ly)) {
+            return "OpenEXR tile (" + std::to_string(tx) + ", " + std::to_string(ty) +
+                   ") lies outside its level";
+        }
+    }
+    return "";
+}
+
 // Parses and decodes a single-part OpenEXR file whose header passed checkExrHeader.
 Image loadExr(std::span<const uint8_t> bytes, EXRVersion& version, const std::string& name) {
     ExrHeader header;
@@ -250,6 +324,11 @@ Image loadExr(std::span<const uint8_t> bytes, EXRVersion& version, const std::st
         if (type == TINYEXR_PIXELTYPE_HALF) {
             header.h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
         }
+    }
+    if (header.h.tiled) {
+        const std::string problem = checkExrTiles(bytes, header.h);
+        if (!problem.empty())
+            fail(name, problem);
     }
     const EXRBox2i& window = header.h.data_window;
     const int64_t width = int64_t(window.max_x) - window.min_x + 1;

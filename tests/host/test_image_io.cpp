@@ -217,40 +217,68 @@ TEST(ImageIo, ReadsHalfFloatExrWithAlpha) {
     expectBitExact(expected, readHdr(dir / "half.exr"));
 }
 
-// `image` as a tiled float EXR in 4x4 tiles, written through tinyexr's own API; a non-empty
+// `image` as a tiled float EXR in 4x4 tiles, written through tinyexr's own API. With `mipmap`
+// the file also holds the mipmap levels (rounded down), filled with crops of `image`. A non-empty
 // `typeAttribute` adds a "type" string attribute (tinyexr writes none for single-part files).
-std::vector<uint8_t> tinyexrTiled(const Image& image, const std::string& typeAttribute = "") {
+std::vector<uint8_t> tinyexrTiled(const Image& image, const std::string& typeAttribute = "",
+                                  bool mipmap = false) {
     const int tile = 4;
-    const int tilesX = (image.width + tile - 1) / tile;
-    const int numTiles = tilesX * ((image.height + tile - 1) / tile);
+    struct Level {
+        std::vector<std::vector<float>> data;
+        std::vector<unsigned char*> pointers;
+        std::vector<EXRTile> tiles;
+        EXRImage exr;
+    };
+    int levelCount = 1;
+    while (mipmap && std::max(image.width, image.height) >> levelCount > 0)
+        ++levelCount;
+    std::vector<Level> levels(static_cast<size_t>(levelCount));
+    for (int l = 0; l < levelCount; ++l) {
+        const Image content =
+            crop(image, 0, 0, std::max(image.width >> l, 1), std::max(image.height >> l, 1));
+        Level& level = levels[size_t(l)];
+        const int tilesX = (content.width + tile - 1) / tile;
+        const int numTiles = tilesX * ((content.height + tile - 1) / tile);
+        level.data.assign(size_t(numTiles) * 3, std::vector<float>(tile * tile, 0.0f));
+        level.pointers.resize(level.data.size());
+        level.tiles.resize(static_cast<size_t>(numTiles));
+        for (int t = 0; t < numTiles; ++t) {
+            EXRTile& current = level.tiles[size_t(t)];
+            current = {};
+            current.offset_x = t % tilesX;
+            current.offset_y = t / tilesX;
+            current.level_x = current.level_y = l;
+            current.width = std::min(tile, content.width - current.offset_x * tile);
+            current.height = std::min(tile, content.height - current.offset_y * tile);
+            for (int c = 0; c < 3; ++c) {
+                std::vector<float>& plane = level.data[size_t(t * 3 + c)];
+                for (int j = 0; j < current.height; ++j) {
+                    for (int i = 0; i < current.width; ++i) {
+                        const glm::vec3 p =
+                            content.at(current.offset_x * tile + i, current.offset_y * tile + j);
+                        plane[size_t(j * tile + i)] = p[2 - c];
+                    }
+                }
+                level.pointers[size_t(t * 3 + c)] = reinterpret_cast<unsigned char*>(plane.data());
+            }
+            current.images = &level.pointers[size_t(t * 3)];
+        }
+        InitEXRImage(&level.exr);
+        level.exr.tiles = level.tiles.data();
+        level.exr.num_tiles = numTiles;
+        level.exr.width = content.width;
+        level.exr.height = content.height;
+        level.exr.level_x = level.exr.level_y = l;
+        level.exr.num_channels = 3;
+        if (l > 0)
+            levels[size_t(l - 1)].exr.next_level = &level.exr;
+    }
+
     const char* names[] = {"B", "G", "R"};
     EXRChannelInfo channels[3] = {};
     int types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
     for (int c = 0; c < 3; ++c)
         std::strcpy(channels[c].name, names[c]);
-    std::vector<std::vector<float>> data(size_t(numTiles) * 3,
-                                         std::vector<float>(tile * tile, 0.0f));
-    std::vector<unsigned char*> pointers(data.size());
-    std::vector<EXRTile> tiles(static_cast<size_t>(numTiles));
-    for (int t = 0; t < numTiles; ++t) {
-        EXRTile& current = tiles[size_t(t)];
-        current.offset_x = t % tilesX;
-        current.offset_y = t / tilesX;
-        current.width = std::min(tile, image.width - current.offset_x * tile);
-        current.height = std::min(tile, image.height - current.offset_y * tile);
-        for (int c = 0; c < 3; ++c) {
-            std::vector<float>& plane = data[size_t(t * 3 + c)];
-            for (int j = 0; j < current.height; ++j) {
-                for (int i = 0; i < current.width; ++i) {
-                    const glm::vec3 p =
-                        image.at(current.offset_x * tile + i, current.offset_y * tile + j);
-                    plane[size_t(j * tile + i)] = p[2 - c];
-                }
-            }
-            pointers[size_t(t * 3 + c)] = reinterpret_cast<unsigned char*>(plane.data());
-        }
-        current.images = &pointers[size_t(t * 3)];
-    }
     EXRHeader header;
     InitEXRHeader(&header);
     header.num_channels = 3;
@@ -261,7 +289,8 @@ std::vector<uint8_t> tinyexrTiled(const Image& image, const std::string& typeAtt
     header.tiled = 1;
     header.tile_size_x = tile;
     header.tile_size_y = tile;
-    header.tile_level_mode = TINYEXR_TILE_ONE_LEVEL;
+    header.tile_level_mode = mipmap ? TINYEXR_TILE_MIPMAP_LEVELS : TINYEXR_TILE_ONE_LEVEL;
+    header.tile_rounding_mode = TINYEXR_TILE_ROUND_DOWN;
     header.data_window = {0, 0, image.width - 1, image.height - 1};
     header.display_window = header.data_window;
     std::string typeValue = typeAttribute;
@@ -274,16 +303,9 @@ std::vector<uint8_t> tinyexrTiled(const Image& image, const std::string& typeAtt
         header.num_custom_attributes = 1;
         header.custom_attributes = &attribute;
     }
-    EXRImage exr;
-    InitEXRImage(&exr);
-    exr.tiles = tiles.data();
-    exr.num_tiles = numTiles;
-    exr.width = image.width;
-    exr.height = image.height;
-    exr.num_channels = 3;
     unsigned char* memory = nullptr;
     const char* err = nullptr;
-    const size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &err);
+    const size_t size = SaveEXRImageToMemory(&levels[0].exr, &header, &memory, &err);
     if (size == 0) {
         const std::string message = err ? err : "unknown";
         FreeEXRErrorMessage(err);
@@ -301,6 +323,8 @@ TEST(ImageIo, ReadsTiledExr) {
         expected.rgb[i] = float(i) * 0.25f - 3.0f;
     expectBitExact(expected, decodeExr(tinyexrTiled(expected), "tiled.exr"));
     expectBitExact(expected, decodeExr(tinyexrTiled(expected, "tiledimage"), "tiled.exr"));
+    // With mipmap levels 7x5, 3x2 and 1x1 the first level is read.
+    expectBitExact(expected, decodeExr(tinyexrTiled(expected, "", true), "mipmap.exr"));
 }
 
 TEST(ImageIo, ReadsUintExr) {
@@ -332,8 +356,8 @@ size_t attributeValue(const std::vector<uint8_t>& bytes, const std::string& name
     return size_t(it - bytes.begin()) + key.size() + 4;  // after the int32 size
 }
 
-// Headers on which tinyexr 1.0.1 itself aborts (assertions) unless decodeExr rejects them first.
-TEST(ImageIo, HeadersTinyexrWouldAbortOnAreErrors) {
+// Files on which tinyexr 1.0.1 itself aborts (assertions) unless decodeExr rejects them first.
+TEST(ImageIo, FilesTinyexrWouldAbortOnAreErrors) {
     const Image image(6, 5);
     const std::vector<uint8_t> tiled = tinyexrTiled(image, "tiledimage");
     std::vector<uint8_t> bytes = tiled;
@@ -353,6 +377,13 @@ TEST(ImageIo, HeadersTinyexrWouldAbortOnAreErrors) {
     bytes[5] &= uint8_t(~0x2);  // version flags: not tiled, but the type says tiled
     expectError([&] { decodeExr(bytes, "t.exr"); }, "t.exr",
                 "unsupported OpenEXR part type 'tiledimage'");
+
+    // Data window 4 pixels wide: the file's second tile column starts right at its edge.
+    Image wide(7, 5);
+    bytes = tinyexrTiled(wide);
+    bytes[attributeValue(bytes, "dataWindow", "box2i") + 8] = 3;
+    expectError([&] { decodeExr(bytes, "t.exr"); }, "t.exr",
+                "OpenEXR tile (1, 0) lies outside its level");
 
     bytes = encodeExr(image, "h.exr");
     bytes[attributeValue(bytes, "dataWindow", "box2i") + 11] = 0x70;  // max x = 2^30 + 5
