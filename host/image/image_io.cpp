@@ -20,13 +20,23 @@ namespace {
 // The largest image decoded (pixels): bounds the memory a hostile header can ask for.
 constexpr uint64_t kMaxPixels = uint64_t(1) << 28;
 
+// Text from a file made safe for a one-line message: control bytes become '?', at most 64.
+std::string printable(std::string_view text) {
+    std::string out(text.substr(0, 64));
+    for (char& c : out) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            c = '?';
+    }
+    return out;
+}
+
 // The one-line text of a tinyexr error message, which is then freed.
 std::string takeExrError(const char* err, int code) {
     std::string text = err ? err : "";
     if (err)
         FreeEXRErrorMessage(err);
     for (char& c : text) {
-        if (c == '\n' || c == '\r')
+        if (static_cast<unsigned char>(c) < 0x20)
             c = ' ';
     }
     while (!text.empty() && (text.back() == ' ' || text.back() == '.'))
@@ -194,7 +204,7 @@ std::string checkExrHeader(std::span<const uint8_t> bytes, bool tiled) {
             const std::string_view part(reinterpret_cast<const char*>(value),
                                         size_t(std::find(value, value + size, 0) - value));
             if (part != (tiled ? "tiledimage" : "scanlineimage")) {
-                return "unsupported OpenEXR part type '" + std::string(part.substr(0, 64)) + "'";
+                return "unsupported OpenEXR part type '" + printable(part) + "'";
             }
         } else if (attribute == "dataWindow" && size >= 16) {
             const int64_t width = int64_t(readInt(value + 8)) - readInt(value) + 1;
@@ -299,7 +309,10 @@ Image loadExr(std::span<const uint8_t> bytes, EXRVersion& version, const std::st
     std::string found;
     for (int c = 0; c < header.h.num_channels; ++c) {
         const std::string_view channel = header.h.channels[c].name;
-        found += (found.empty() ? "" : ", ") + std::string(channel);
+        if (c < 16)
+            found += (found.empty() ? "" : ", ") + printable(channel);
+        else if (c == 16)
+            found += ", ...";
         const size_t rgb = std::string_view("RGB").find(channel);
         if (channel.size() == 1 && rgb != std::string_view::npos)
             index[rgb] = c;
@@ -310,7 +323,7 @@ Image loadExr(std::span<const uint8_t> bytes, EXRVersion& version, const std::st
     }
     for (int c : index) {
         if (header.h.channels[c].x_sampling != 1 || header.h.channels[c].y_sampling != 1) {
-            fail(name, std::string("subsampled OpenEXR channel ") + header.h.channels[c].name +
+            fail(name, "subsampled OpenEXR channel " + printable(header.h.channels[c].name) +
                            " is not supported");
         }
     }
@@ -319,7 +332,7 @@ Image loadExr(std::span<const uint8_t> bytes, EXRVersion& version, const std::st
         if (type != TINYEXR_PIXELTYPE_UINT && type != TINYEXR_PIXELTYPE_HALF &&
             type != TINYEXR_PIXELTYPE_FLOAT) {
             fail(name, "invalid pixel type " + std::to_string(type) + " of OpenEXR channel " +
-                           header.h.channels[c].name);
+                           printable(header.h.channels[c].name));
         }
         if (type == TINYEXR_PIXELTYPE_HALF) {
             header.h.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
@@ -334,7 +347,15 @@ Image loadExr(std::span<const uint8_t> bytes, EXRVersion& version, const std::st
     const int64_t width = int64_t(window.max_x) - window.min_x + 1;
     const int64_t height = int64_t(window.max_y) - window.min_y + 1;
 
+    if (uint64_t(width) * uint64_t(height) * uint64_t(header.h.num_channels) > 4 * kMaxPixels) {
+        fail(name, "OpenEXR file of " + std::to_string(width) + "x" + std::to_string(height) +
+                       " pixels with " + std::to_string(header.h.num_channels) +
+                       " channels is too large");
+    }
+
     ExrImage exr;
+    // tinyexr frees a scanline image's channels on failure only if num_channels is already set.
+    exr.image.num_channels = header.h.num_channels;
     const int loadResult =
         LoadEXRImageFromMemory(&exr.image, &header.h, bytes.data(), bytes.size(), &err);
     if (loadResult != TINYEXR_SUCCESS) {
@@ -453,7 +474,7 @@ Image decodePfm(std::span<const uint8_t> bytes, const std::string& name) {
         int value = 0;
         const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
         if (ec != std::errc() || end != text.data() + text.size() || value <= 0) {
-            fail(name, std::string("invalid PFM ") + what + " '" + std::string(text) + "'");
+            fail(name, std::string("invalid PFM ") + what + " '" + printable(text) + "'");
         }
         return value;
     };
@@ -465,7 +486,7 @@ Image decodePfm(std::span<const uint8_t> bytes, const std::string& name) {
         std::from_chars(scaleText.data(), scaleText.data() + scaleText.size(), scale);
     if (ec != std::errc() || end != scaleText.data() + scaleText.size() || !std::isfinite(scale) ||
         scale == 0.0f) {
-        fail(name, "invalid PFM scale '" + std::string(scaleText) + "'");
+        fail(name, "invalid PFM scale '" + printable(scaleText) + "'");
     }
     ++pos;  // the single whitespace character that ends the header
 

@@ -372,6 +372,9 @@ TEST(ImageIo, FilesTinyexrWouldAbortOnAreErrors) {
     bytes[attributeValue(bytes, "type", "string")] = 'X';
     expectError([&] { decodeExr(bytes, "t.exr"); }, "t.exr",
                 "unsupported OpenEXR part type 'Xiledimage'");
+    bytes[attributeValue(bytes, "type", "string") + 1] = '\n';  // the message stays one line
+    expectError([&] { decodeExr(bytes, "t.exr"); }, "t.exr",
+                "unsupported OpenEXR part type 'X?ledimage'");
 
     bytes = tiled;
     bytes[5] &= uint8_t(~0x2);  // version flags: not tiled, but the type says tiled
