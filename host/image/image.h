@@ -2,6 +2,7 @@
 // tonemapped 8-bit sRGB PNG (stb_image_write). Rows are stored top row first.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <vector>
@@ -41,6 +42,16 @@ void writeHdr(const std::filesystem::path& path, const Image& image);
 Image readHdr(const std::filesystem::path& path);
 
 // 8-bit sRGB PNG of image * 2^exposure, clamped to [0,1], written atomically.
+// NaN and infinite pixel components are written as 0.
 void writePng(const std::filesystem::path& path, const Image& image, float exposure = 0.0f);
+
+// The sRGB OETF (IEC 61966-2-1) for a linear value in [0,1].
+float srgbEncode(float linear);
+// The 8-bit sRGB pixels writePng stores: 3 bytes per pixel, top row first.
+std::vector<uint8_t> toSrgb8(const Image& image, float exposure);
+
+// The w x h rectangle of `image` whose top-left pixel is (x, y); throws pmcr::Error unless the
+// rectangle is non-empty and lies inside the image.
+Image crop(const Image& image, int x, int y, int w, int h);
 
 }  // namespace pmcr
