@@ -36,9 +36,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr uint64_t kMaxFileBytes = uint64_t(UINT32_MAX);  // tinygltf takes 32-bit sizes
-constexpr size_t kMaxJsonDepth = 256;  // tinygltf converts extras/extensions recursively
-constexpr size_t kMaxVertices = size_t(1) << 28;
-constexpr size_t kMaxTriangles = size_t(1) << 28;
+constexpr size_t kMaxJsonDepth = 256;             // tinygltf converts extras/extensions recursively
+constexpr size_t kMaxVertices = size_t(1) << 26;  // 2 GiB of vertices: bounds instancing bombs
+constexpr size_t kMaxTriangles = size_t(1) << 26;
 constexpr size_t kMaxZeroAccessorCount = size_t(1) << 24;  // accessors without a buffer view
 constexpr int kMaxImageDimension = 16384;
 constexpr size_t kMaxMessage = 300;
@@ -147,6 +147,11 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
     }
     image->as_is = true;
     return true;
+}
+
+std::string decodeFailure() {
+    const char* reason = stbi_failure_reason();
+    return reason ? reason : "unsupported image";
 }
 
 size_t componentSize(int componentType) {
@@ -720,35 +725,38 @@ Texture GltfLoader::decodeImage(int index) {
     if (size == 0 || size > size_t(INT_MAX))
         error(label + " has no or too much data");
 
+    // Decoded in the file's own channel count and expanded here: stb_image 2.27 converts
+    // 16-bit PNM channels wrongly when asked for another count.
     int width = 0, height = 0, channels = 0;
     std::vector<uint32_t> texels;
-    auto pack = [](uint32_t r, uint32_t g, uint32_t b, uint32_t a) {
-        return r | (g << 8) | (b << 16) | (a << 24);
+    auto expand = [&](const auto* pixels, auto to8) {
+        texels.resize(size_t(width) * size_t(height));
+        for (size_t i = 0; i < texels.size(); ++i) {
+            const auto* p = pixels + size_t(channels) * i;
+            const uint32_t grey = to8(p[0]);
+            const bool colour = channels >= 3;
+            const uint32_t r = grey, g = colour ? to8(p[1]) : grey, b = colour ? to8(p[2]) : grey;
+            const uint32_t a = channels == 2 ? to8(p[1]) : channels == 4 ? to8(p[3]) : 255u;
+            texels[i] = r | (g << 8) | (b << 16) | (a << 24);
+        }
     };
     if (stbi_is_16_bit_from_memory(bytes, int(size))) {
         std::unique_ptr<stbi_us, void (*)(void*)> pixels(
-            stbi_load_16_from_memory(bytes, int(size), &width, &height, &channels, 4),
+            stbi_load_16_from_memory(bytes, int(size), &width, &height, &channels, 0),
             stbi_image_free);
-        if (!pixels)
-            error(label + " could not be decoded: " + stbi_failure_reason());
-        texels.resize(size_t(width) * size_t(height));
-        // 16 to 8 bits with rounding: round(v * 255 / 65535).
-        auto to8 = [](uint32_t v) { return (v * 255u + 32767u) / 65535u; };
-        for (size_t i = 0; i < texels.size(); ++i) {
-            const stbi_us* p = pixels.get() + 4 * i;
-            texels[i] = pack(to8(p[0]), to8(p[1]), to8(p[2]), to8(p[3]));
+        if (!pixels || channels < 1 || channels > 4) {
+            error(label + " could not be decoded: " + decodeFailure());
         }
+        // 16 to 8 bits with rounding: round(v * 255 / 65535).
+        expand(pixels.get(), [](uint32_t v) { return (v * 255u + 32767u) / 65535u; });
     } else {
         std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
-            stbi_load_from_memory(bytes, int(size), &width, &height, &channels, 4),
+            stbi_load_from_memory(bytes, int(size), &width, &height, &channels, 0),
             stbi_image_free);
-        if (!pixels)
-            error(label + " could not be decoded: " + stbi_failure_reason());
-        texels.resize(size_t(width) * size_t(height));
-        for (size_t i = 0; i < texels.size(); ++i) {
-            const stbi_uc* p = pixels.get() + 4 * i;
-            texels[i] = pack(p[0], p[1], p[2], p[3]);
+        if (!pixels || channels < 1 || channels > 4) {
+            error(label + " could not be decoded: " + decodeFailure());
         }
+        expand(pixels.get(), [](uint32_t v) { return v; });
     }
     Texture texture;
     texture.name = name.empty() ? "image " + std::to_string(index) : oneLine(name);
@@ -1240,7 +1248,15 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
 }  // namespace
 
 Scene loadScene(const std::filesystem::path& path) {
-    return GltfLoader(path).load();
+    try {
+        return GltfLoader(path).load();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        fail(path.string(), "out of memory while loading the scene");
+    } catch (const std::exception& e) {
+        fail(path.string(), std::string("cannot load: ") + oneLine(e.what()));
+    }
 }
 
 }  // namespace pmcr
