@@ -346,6 +346,13 @@ Scene GltfLoader::load() {
 }
 
 void GltfLoader::parse() {
+    std::string extension = m_path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (extension != ".gltf" && extension != ".glb") {
+        error("unsupported scene format '" + extension + "' (pmcr loads .gltf and .glb)");
+    }
+
     std::error_code ec;
     const fs::file_status status = fs::status(m_path, ec);
     if (!fs::exists(status))
@@ -361,13 +368,6 @@ void GltfLoader::parse() {
     std::ifstream in(m_path, std::ios::binary);
     if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size))) {
         error("cannot read the file");
-    }
-
-    std::string extension = m_path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    if (extension != ".gltf" && extension != ".glb") {
-        error("unsupported scene format '" + extension + "' (pmcr loads .gltf and .glb)");
     }
 
     tinygltf::TinyGLTF gltf;

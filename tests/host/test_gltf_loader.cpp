@@ -720,7 +720,8 @@ TEST(GltfLoaderErrors, MissingFileAndUnknownFormat) {
     expectLoadError(dir / "nothing.gltf", "no such file");
     writeText(dir / "scene.obj", "v 0 0 0\n");
     expectLoadError(dir / "scene.obj", "unsupported");
-    expectLoadError(dir, "regular file");
+    fs::create_directories(dir / "folder.gltf");
+    expectLoadError(dir / "folder.gltf", "not a regular file");
 }
 
 TEST(GltfLoaderErrors, NotJson) {
