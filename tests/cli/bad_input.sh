@@ -22,7 +22,7 @@ expect_error() {
     if [ $rc -eq 0 ]; then
         echo "FAIL ($what): exit status 0"; failures=$((failures + 1)); return
     fi
-    if [ "$lines" -ne 1 ] || ! grep -v '^warning: ' "$tmp/stderr" | grep -qE "$pattern"; then
+    if [ "$lines" -ne 1 ] || ! grep -v '^warning: ' "$tmp/stderr" | grep -qE -e "$pattern"; then
         echo "FAIL ($what): expected one line matching /$pattern/, got:"; cat "$tmp/stderr"
         failures=$((failures + 1)); return
     fi
