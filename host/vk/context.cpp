@@ -134,7 +134,20 @@ void initializeLoader() {
         throw Error("no Vulkan loader found (install libvulkan1 and a driver, e.g. mesa-vulkan-drivers)");
 }
 
-VkInstance createInstance(bool validate, bool withMessenger) {
+bool instanceExtensionAvailable(const char* name) {
+    uint32_t count = 0;
+    vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+    std::vector<VkExtensionProperties> exts(count);
+    vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data());
+    return std::any_of(exts.begin(), exts.end(),
+                       [&](const VkExtensionProperties& e) { return !strcmp(e.extensionName, name); });
+}
+
+// volk keeps one set of process-wide function pointers. Every instance pmcr creates enables the
+// same extensions and loads the loader's dispatching trampolines (volkLoadInstance, never
+// volkLoadDevice), so the pointers stay valid for every instance and device alive at once
+// (e.g. --list-devices' temporary instance beside a render's).
+VkInstance createInstance(bool validate) {
     initializeLoader();
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "pmcr";
@@ -151,7 +164,11 @@ VkInstance createInstance(bool validate, bool withMessenger) {
         layers.push_back(kValidationLayer);
         extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
     }
-    if (withMessenger) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    if (instanceExtensionAvailable(VK_EXT_DEBUG_UTILS_EXTENSION_NAME))
+        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    else if (validate)
+        throw Error(std::string("--validate needs the ") + VK_EXT_DEBUG_UTILS_EXTENSION_NAME +
+                    " instance extension");
 
     // Synchronization validation catches missing barriers between dependent dispatches.
     VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
@@ -168,7 +185,7 @@ VkInstance createInstance(bool validate, bool withMessenger) {
     info.ppEnabledExtensionNames = extensions.data();
     VkInstance instance = VK_NULL_HANDLE;
     VK_CHECK(vkCreateInstance(&info, nullptr, &instance));
-    volkLoadInstanceOnly(instance);
+    volkLoadInstance(instance);
     return instance;
 }
 
@@ -180,7 +197,7 @@ std::string lower(std::string s) {
 }  // namespace
 
 std::vector<DeviceDescription> Context::listDevices() {
-    VkInstance instance = createInstance(false, false);
+    VkInstance instance = createInstance(false);
     std::vector<DeviceDescription> result;
     try {
         auto devices = enumeratePhysicalDevices(instance);
@@ -207,7 +224,7 @@ std::vector<DeviceDescription> Context::listDevices() {
 
 Context::Context(const ContextOptions& options)
     : m_validate(options.validate), m_printValidation(options.printValidation) {
-    m_instance = createInstance(m_validate, m_validate);
+    m_instance = createInstance(m_validate);
     try {
         if (m_validate) {
             VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
@@ -301,7 +318,6 @@ Context::Context(const ContextOptions& options)
         info.enabledExtensionCount = 1;
         info.ppEnabledExtensionNames = extensions;
         VK_CHECK(vkCreateDevice(m_physicalDevice, &info, nullptr, &m_device));
-        volkLoadDevice(m_device);
         vkGetDeviceQueue(m_device, m_queueFamily, 0, &m_queue);
 
         VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};

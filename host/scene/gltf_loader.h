@@ -1,0 +1,17 @@
+// glTF 2.0 scene loading (.gltf with external or data-URI resources, or .glb).
+#pragma once
+
+#include <filesystem>
+
+#include "scene/scene.h"
+
+namespace pmcr {
+
+// Loads the default scene of a glTF 2.0 file: its triangles flattened to world space, materials
+// (metallic-roughness plus KHR_materials_emissive_strength, _transmission, _ior, _volume),
+// baseColor textures and perspective cameras, then calls finalizeScene. Every index, range and
+// value read is validated; bad input throws pmcr::Error "<file>: <problem>" (one line), input
+// pmcr only partly supports gives one warning per kind.
+Scene loadScene(const std::filesystem::path& path);
+
+}  // namespace pmcr

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Bad input gets one line naming the file and the problem, a non-zero exit, and no output file.
+#   bad_input.sh PMCR SOURCE_DIR
+set -u
+pmcr="$1"
+src="$2"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+
+# expect_error DESCRIPTION PATTERN -- ARGS...: pmcr must fail with exactly one stderr line that
+# matches PATTERN, and leave no file in $tmp/out.
+expect_error() {
+    local what="$1" pattern="$2"
+    shift 3
+    rm -rf "$tmp/out"
+    mkdir -p "$tmp/out"
+    "$pmcr" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+    local rc=$?
+    local lines
+    lines=$(grep -vc '^warning: ' "$tmp/stderr")
+    if [ $rc -eq 0 ]; then
+        echo "FAIL ($what): exit status 0"; failures=$((failures + 1)); return
+    fi
+    if [ "$lines" -ne 1 ] || ! grep -v '^warning: ' "$tmp/stderr" | grep -qE -e "$pattern"; then
+        echo "FAIL ($what): expected one line matching /$pattern/, got:"; cat "$tmp/stderr"
+        failures=$((failures + 1)); return
+    fi
+    if [ -n "$(ls -A "$tmp/out")" ]; then
+        echo "FAIL ($what): left files: $(ls -A "$tmp/out")"; failures=$((failures + 1)); return
+    fi
+    echo "ok   ($what): $(grep -v '^warning: ' "$tmp/stderr")"
+}
+
+printf 'not json at all' >"$tmp/garbage.gltf"
+printf 'glTF\x02\x00\x00\x00' >"$tmp/truncated.glb"
+cat >"$tmp/nolight.gltf" <<'GLTF'
+{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+ "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+ "bufferViews":[{"buffer":0,"byteLength":36}],
+ "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}
+GLTF
+cat >"$tmp/nanpos.gltf" <<'GLTF'
+{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+ "materials":[{"emissiveFactor":[1,1,1]}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
+ "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}],
+ "bufferViews":[{"buffer":0,"byteLength":36}],
+ "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AADAfwAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}
+GLTF
+cat >"$tmp/required.gltf" <<'GLTF'
+{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],
+ "extensionsRequired":["KHR_draco_mesh_compression"],"scenes":[{"nodes":[]}]}
+GLTF
+
+expect_error "missing scene file" "no-such-scene\.glb" -- render "$tmp/no-such-scene.glb" -o "$tmp/out/x.exr"
+expect_error "not JSON" "garbage\.gltf" -- render "$tmp/garbage.gltf" -o "$tmp/out/x.exr"
+expect_error "truncated glb" "truncated\.glb" -- render "$tmp/truncated.glb" -o "$tmp/out/x.exr"
+expect_error "no emitters" "nolight\.gltf.*emitter" -- render "$tmp/nolight.gltf" -o "$tmp/out/x.exr"
+expect_error "NaN geometry" "nanpos\.gltf" -- render "$tmp/nanpos.gltf" -o "$tmp/out/x.exr"
+expect_error "required extension" "KHR_draco_mesh_compression" -- render "$tmp/required.gltf" -o "$tmp/out/x.exr"
+expect_error "unknown method" "no-such-method" -- render "$src/scenes/furnace.glb" --method no-such-method -o "$tmp/out/x.exr"
+expect_error "unknown option" "--bogus" -- render "$src/scenes/furnace.glb" --bogus 3 -o "$tmp/out/x.exr"
+expect_error "bad number" "--spp" -- render "$src/scenes/furnace.glb" --spp abc -o "$tmp/out/x.exr"
+expect_error "bad output extension" "x\.jpg" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.jpg"
+expect_error "missing output directory" "nodir" -- render "$src/scenes/furnace.glb" -o "$tmp/out/nodir/x.exr"
+expect_error "unknown device" "no-such-gpu" -- render "$src/scenes/furnace.glb" --device no-such-gpu -o "$tmp/out/x.exr"
+expect_error "unknown command" "frobnicate" -- frobnicate
+
+[ $failures -eq 0 ] || { echo "$failures failure(s)"; exit 1; }

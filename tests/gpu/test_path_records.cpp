@@ -1,0 +1,126 @@
+// Path records (shared/path_types.h), written by the pt_record kernel for ERPT and PMC-ER:
+// recording must not change the estimate (same film, bit for bit, as pt), and each record must
+// describe its sample: vertices on their triangles, contributions summing to the radiance,
+// light connections on emitters, specular flags only on delta materials.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gpu_test.h"
+#include "render/session.h"
+#include "render_test.h"
+#include "vk/command_batch.h"
+
+namespace pmcr::test {
+namespace {
+
+class PathRecords : public GpuTest {};
+
+// Distance from p to the plane of triangle t, and whether p is inside it (with slack).
+bool onTriangle(const Scene& scene, uint32_t tri, const glm::vec3& p) {
+    const gpu::Triangle& t = scene.triangles[tri];
+    const glm::vec3 a = scene.vertices[t.i0].position, b = scene.vertices[t.i1].position,
+                    c = scene.vertices[t.i2].position;
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    const float area2 = glm::length(n);
+    const float planeDistance = std::abs(glm::dot(p - a, n)) / area2;
+    // Barycentrics by sub-areas.
+    const float wa = glm::dot(glm::cross(b - p, c - p), n) / (area2 * area2);
+    const float wb = glm::dot(glm::cross(c - p, a - p), n) / (area2 * area2);
+    const float wc = 1.0f - wa - wb;
+    const float scale = 1e-3f;
+    return planeDistance < 1e-4f && wa > -scale && wb > -scale && wc > -scale;
+}
+
+TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
+    const Scene& scene = testScene("scenes/cornell-spheres.glb");
+    RenderSettings settings;
+    settings.width = 32;
+    settings.height = 32;
+    RenderSession session(context(), scene, settings, 32, 32);
+    const uint32_t pixels = 32 * 32;
+
+    vk::Kernel pt(session.layout(), "pt");
+    vk::Kernel ptRecord(session.layout(), "pt_record");
+    Film& film = session.film();
+    vk::Buffer records(context(), pixels * sizeof(gpu::PathRecord), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "path records");
+    vk::Buffer vertices(context(), pixels * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "path vertices");
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "record work");
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
+    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+    work.bind(gpu::PT_BINDING_PATH_RECORDS, records);
+    work.bind(gpu::PT_BINDING_PATH_VERTICES, vertices);
+
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.invocationCount = pixels;
+    push.samplesPerPixel = 1;
+    push.sampleBase = 3;
+    push.seed = 11;
+    push.maxDepth = 8;
+    push.rrDepth = 3;
+    auto renderWith = [&](const vk::Kernel& kernel) {
+        film.clear();
+        vk::CommandBatch batch(session.layout());
+        batch.bind(session.scene().descriptorSet());
+        batch.bind(work);
+        batch.dispatch(kernel, push, pixels);
+        batch.submitAndWait();
+        return film.download();
+    };
+    auto plain = renderWith(pt);
+    auto recorded = renderWith(ptRecord);
+    for (uint32_t i = 0; i < pixels; ++i) {
+        ASSERT_EQ(plain[i].sum, recorded[i].sum) << "pixel " << i;
+        ASSERT_EQ(plain[i].sampleCount, recorded[i].sampleCount);
+    }
+
+    auto recs = records.download<gpu::PathRecord>(pixels);
+    auto verts = vertices.download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
+    int withLight = 0, withEmitterHit = 0, specular = 0;
+    for (uint32_t i = 0; i < pixels; ++i) {
+        const gpu::PathRecord& r = recs[i];
+        ASSERT_EQ(r.pixel, i);
+        ASSERT_GE(r.raster.x, float(i % 32));
+        ASSERT_LT(r.raster.x, float(i % 32 + 1));
+        ASSERT_LE(r.vertexCount, push.maxDepth + 1);
+        ASSERT_EQ(r.firstVertex, i * gpu::PATH_MAX_VERTICES);
+        glm::vec3 sum(0.0f);
+        for (uint32_t k = 0; k < r.vertexCount; ++k) {
+            const gpu::PathVertex& v = verts[r.firstVertex + k];
+            ASSERT_TRUE(onTriangle(scene, v.triangle, v.position)) << "record " << i << " vertex " << k;
+            ASSERT_EQ(v.material, scene.triangles[v.triangle].material);
+            const gpu::Material& m = scene.materials[v.material];
+            if (v.flags & gpu::VERTEX_SPECULAR) {
+                ++specular;
+                // Only the smooth mirror and glass have delta lobes in this scene.
+                ASSERT_TRUE(m.metallic > 0.0f || m.transmission > 0.0f) << scene.materialNames[v.material];
+                ASSERT_LT(m.roughness, 0.05f);
+            }
+            if (v.flags & gpu::VERTEX_HAS_LIGHT_SAMPLE) {
+                ++withLight;
+                const gpu::Material& lm = scene.materials[scene.triangles[v.lightTriangle].material];
+                ASSERT_GT(lm.emission.x + lm.emission.y + lm.emission.z, 0.0f);
+                ASSERT_TRUE(onTriangle(scene, v.lightTriangle, v.lightPosition));
+            }
+            if (v.flags & gpu::VERTEX_EMITTER) ++withEmitterHit;
+            sum += v.explicitContribution + v.implicitContribution;
+        }
+        const float tolerance = 1e-5f * std::max(1.0f, glm::length(r.radiance));
+        ASSERT_NEAR(sum.x, r.radiance.x, tolerance) << "record " << i;
+        ASSERT_NEAR(sum.y, r.radiance.y, tolerance);
+        ASSERT_NEAR(sum.z, r.radiance.z, tolerance);
+    }
+    // The test image must exercise every kind of record.
+    EXPECT_GT(withLight, int(pixels) / 2);
+    EXPECT_GT(withEmitterHit, 0);
+    EXPECT_GT(specular, 0);
+}
+
+}  // namespace
+}  // namespace pmcr::test
