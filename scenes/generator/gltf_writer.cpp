@@ -141,9 +141,10 @@ Json cameraNode(const CameraDesc& c, int cameraIndex) {
     return node;
 }
 
-void appendU32(std::vector<uint8_t>& out, uint32_t v) {
+// Little-endian, as GLB stores its header words (section 4.4.2).
+void putU32(uint8_t* at, uint32_t v) {
     for (int i = 0; i < 4; ++i)
-        out.push_back(uint8_t(v >> (8 * i)));
+        at[i] = uint8_t(v >> (8 * i));
 }
 
 void writeFile(const std::filesystem::path& path, const void* data, size_t size) {
@@ -167,17 +168,17 @@ void writeGlbFile(const std::filesystem::path& path, const Json& root,
     if (total > std::numeric_limits<uint32_t>::max())
         fail(path.string(), "scene too large for a .glb");
 
-    std::vector<uint8_t> out;
-    out.reserve(total);
-    appendU32(out, 0x46546C67u);  // "glTF"
-    appendU32(out, 2u);
-    appendU32(out, uint32_t(total));
-    appendU32(out, uint32_t(jsonText.size()));
-    appendU32(out, 0x4E4F534Au);  // "JSON"
-    out.insert(out.end(), jsonText.begin(), jsonText.end());
-    appendU32(out, uint32_t(bin.size()));
-    appendU32(out, 0x004E4942u);  // "BIN\0"
-    out.insert(out.end(), bin.begin(), bin.end());
+    std::vector<uint8_t> out(total);
+    putU32(&out[0], 0x46546C67u);  // "glTF"
+    putU32(&out[4], 2u);
+    putU32(&out[8], uint32_t(total));
+    putU32(&out[12], uint32_t(jsonText.size()));
+    putU32(&out[16], 0x4E4F534Au);  // "JSON"
+    std::memcpy(&out[20], jsonText.data(), jsonText.size());
+    const size_t binAt = 20 + jsonText.size();
+    putU32(&out[binAt], uint32_t(bin.size()));
+    putU32(&out[binAt + 4], 0x004E4942u);  // "BIN\0"
+    std::memcpy(&out[binAt + 8], bin.data(), bin.size());
     writeFile(path, out.data(), out.size());
 }
 

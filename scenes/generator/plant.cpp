@@ -71,7 +71,7 @@ Plant makePlant(const glm::dvec3& base, uint64_t seed) {
 
     // Fronds leave the upper stem at golden-angle steps, rise and arch over under a constant
     // "gravity" bend; leaflet pairs shrink towards both ends of each frond.
-    constexpr int kFronds = 11;
+    constexpr int kFronds = 14;
     constexpr int kSteps = 16;
     constexpr int kPairs = 13;
     const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
@@ -81,7 +81,7 @@ Plant makePlant(const glm::dvec3& base, uint64_t seed) {
         const double azimuth = f * golden + rng.uniform(-0.2, 0.2);
         const double elevation =
             (75.0 - 35.0 * t + rng.uniform(-8.0, 8.0)) * std::numbers::pi / 180;
-        const double length = rng.uniform(0.6, 0.85);
+        const double length = rng.uniform(0.8, 1.1);
         const double bend = rng.uniform(2.2, 3.0);  // downward turn per unit length, radians
         const glm::dvec3 outward(std::cos(azimuth), 0.0, std::sin(azimuth));
 
@@ -106,12 +106,12 @@ Plant makePlant(const glm::dvec3& base, uint64_t seed) {
             const glm::dvec3 along = tangents[size_t(step)];
             const glm::dvec3 side = glm::normalize(glm::cross(along, glm::dvec3(0, 1, 0)));
             const glm::dvec3 up = glm::normalize(glm::cross(side, along));
-            const double size = 0.2 * std::sin(std::numbers::pi * (0.15 + 0.8 * u));
+            const double size = 0.22 * std::sin(std::numbers::pi * (0.15 + 0.8 * u));
             for (double s : {-1.0, 1.0}) {
                 // Leaflets point forward along the frond and droop a little.
                 glm::dvec3 dir = s * side * 0.8 + along * 0.6 - up * rng.uniform(0.05, 0.3);
                 dir = glm::normalize(dir);
-                addLeaflet(plant.leaves, at, dir, up, size * rng.uniform(0.85, 1.1), 0.22 * size);
+                addLeaflet(plant.leaves, at, dir, up, size * rng.uniform(0.85, 1.1), 0.3 * size);
             }
         }
     }

@@ -64,7 +64,7 @@ SceneDesc dragonCaustic(const SceneContext& context) {
     const glm::dvec3 light = ball + 4.5 * glm::normalize(ball - focus);
     scene.objects.push_back({spotPanel("Light", light, ball, 0.25), lightMat});
 
-    scene.camera = lookAt({-1.2, 2.3, 5.2}, {0.4, 0.5, 0.3}, 32.0);
+    scene.camera = lookAt({-0.8, 2.4, 5.6}, {0.6, 0.55, 0.3}, 34.0);
     return scene;
 }
 

@@ -89,13 +89,13 @@ SceneDesc plantShadows(const SceneContext&) {
     const int soilMat = addMaterial(scene, lambertian("Soil", {0.12, 0.08, 0.05}));
     const int stemMat = addMaterial(scene, lambertian("Stem", {0.25, 0.35, 0.12}));
     const int leafMat = addMaterial(scene, lambertian("Leaf", {0.12, 0.4, 0.08}));
-    const int keyMat = addMaterial(scene, emitter("KeyLight", glm::dvec3(40.0)));
-    const int fillMat = addMaterial(scene, emitter("FillLight", glm::dvec3(30.0)));
+    const int keyMat = addMaterial(scene, emitter("KeyLight", glm::dvec3(120.0)));
+    const int fillMat = addMaterial(scene, emitter("FillLight", glm::dvec3(25.0)));
 
     scene.objects.push_back(
-        {rectangle("Table", {0.0, 0.0, 0.0}, {8.0, 0.0, 0.0}, {0.0, 0.0, -6.0}), tableMat});
+        {rectangle("Table", {0.0, 0.0, 0.0}, {12.0, 0.0, 0.0}, {0.0, 0.0, -6.0}), tableMat});
     scene.objects.push_back(
-        {rectangle("Wall", {0.0, 2.0, -3.0}, {8.0, 0.0, 0.0}, {0.0, 4.0, 0.0}), wallMat});
+        {rectangle("Wall", {0.0, 2.0, -3.0}, {12.0, 0.0, 0.0}, {0.0, 4.0, 0.0}), wallMat});
 
     constexpr double kPotRadius = 0.22, kPotHeight = 0.3;
     scene.objects.push_back(
@@ -106,17 +106,18 @@ SceneDesc plantShadows(const SceneContext&) {
     scene.objects.push_back({std::move(plant.stems), stemMat});
     scene.objects.push_back({std::move(plant.leaves), leafMat});
 
-    // Lights face the plant from above-right-front and above-left-behind.
+    // Lights face the plant from above, behind on the right and in front on the left, so that
+    // the fronds' shadows fall on the table on both sides of the pot.
     auto panel = [&](const char* name, const glm::dvec3& at, double size, int material) {
         const glm::dvec3 facing = glm::normalize(glm::dvec3(0.0, 0.3, 0.0) - at);
         const glm::dvec3 u = glm::normalize(glm::cross(glm::dvec3(0.0, 1.0, 0.0), facing));
         scene.objects.push_back(
             {rectangle(name, at, size * u, size * glm::cross(facing, u)), material});
     };
-    panel("KeyLight", {1.3, 2.6, 1.1}, 0.7, keyMat);
-    panel("FillLight", {-1.6, 2.3, -1.0}, 0.55, fillMat);
+    panel("KeyLight", {0.8, 2.6, -1.2}, 0.4, keyMat);
+    panel("FillLight", {-1.7, 2.3, 1.3}, 0.4, fillMat);
 
-    scene.camera = lookAt({0.2, 1.7, 3.7}, {0.0, 0.45, 0.0}, 36.0);
+    scene.camera = lookAt({0.35, 1.25, 2.6}, {-0.05, 0.42, 0.1}, 38.0);
     return scene;
 }
 
