@@ -31,7 +31,7 @@ SceneDesc cornellBox(const std::string& name, bool rightWallMirror) {
     scene.copyright = kBitterliCredit;
     scene.width = 256;
     scene.height = 256;
-    scene.paperWidth = 640;  // PMC-PT and PMC-IP render their Cornell boxes at 640x480
+    scene.paperWidth = 640;  // PMC-PT (section 5) renders its Cornell boxes at 640x480
     scene.paperHeight = 480;
 
     const glm::dvec3 white(0.725, 0.71, 0.68);
