@@ -9,7 +9,7 @@ namespace pmcr {
 double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
     const RenderSettings& s = session.settings();
     Film film(session.context(), session.width(), session.height());
-    vk::Kernel kernel(session.layout(), "pt");
+    const vk::Kernel& kernel = session.kernel("pt");
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "energy pre-pass");
     work.bind(gpu::PT_BINDING_FILM, film.pixels());
     work.bind(gpu::PT_BINDING_COUNTERS, film.counters());

@@ -112,10 +112,10 @@ RenderOutput Erpt::render(RenderSession& session) {
     pixelStats.fill(0);
     vk::Buffer energy(context, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "energy", vk::MemoryUsage::Readback);
 
-    vk::Kernel recordKernel(session.layout(), "pt_record");
-    vk::Kernel countKernel(session.layout(), "erpt_count");
-    vk::Kernel seedKernel(session.layout(), "erpt_seed");
-    vk::Kernel chainKernel(session.layout(), "erpt_chains");
+    const vk::Kernel& recordKernel = session.kernel("pt_record");
+    const vk::Kernel& countKernel = session.kernel("erpt_count");
+    const vk::Kernel& seedKernel = session.kernel("erpt_seed");
+    const vk::Kernel& chainKernel = session.kernel("erpt_chains");
     vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "erpt seed pass");
     ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
     ptWork.bind(gpu::PT_BINDING_COUNTERS, film.counters());

@@ -21,7 +21,7 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
 
 RenderOutput PathTracer::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
-    vk::Kernel kernel(session.layout(), m_mode == Mode::Full ? "pt" : "direct");
+    const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full ? "pt" : "direct");
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     work.bind(gpu::PT_BINDING_FILM, film.pixels());

@@ -11,8 +11,7 @@ namespace pmcr {
 RenderSession::RenderSession(vk::Context& context, const Scene& scene,
                              const RenderSettings& settings, int width, int height)
     : m_context(context), m_settings(settings), m_width(width), m_height(height) {
-    m_layout = std::make_unique<vk::PipelineLayout>(context);
-    m_scene = std::make_unique<GpuScene>(context, *m_layout, scene, settings.camera, width, height);
+    m_scene = std::make_unique<GpuScene>(context, context.layout(), scene, settings.camera, width, height);
     m_timer = std::make_unique<vk::GpuTimer>(context);
     m_film = std::make_unique<Film>(context, width, height);
     m_progress = std::make_unique<Progress>(settings.method, !settings.quiet);

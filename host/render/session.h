@@ -15,6 +15,7 @@
 #include "render/gpu_scene.h"
 #include "render/settings.h"
 #include "vk/gpu_timer.h"
+#include "vk/context.h"
 #include "vk/pipeline.h"
 
 namespace pmcr {
@@ -35,7 +36,8 @@ public:
                   int width, int height);
 
     vk::Context& context() { return m_context; }
-    const vk::PipelineLayout& layout() const { return *m_layout; }
+    const vk::PipelineLayout& layout() const { return m_context.layout(); }
+    const vk::Kernel& kernel(const std::string& name) { return m_context.kernel(name); }
     const GpuScene& scene() const { return *m_scene; }
     const RenderSettings& settings() const { return m_settings; }
     vk::GpuTimer& timer() { return *m_timer; }
@@ -67,7 +69,6 @@ private:
     RenderSettings m_settings;
     int m_width;
     int m_height;
-    std::unique_ptr<vk::PipelineLayout> m_layout;
     std::unique_ptr<GpuScene> m_scene;
     std::unique_ptr<vk::GpuTimer> m_timer;
     std::unique_ptr<Film> m_film;

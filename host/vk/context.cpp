@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "vk/check.h"
+#include "vk/pipeline.h"
 
 namespace pmcr::vk {
 
@@ -335,6 +336,8 @@ Context::~Context() { destroy(); }
 void Context::destroy() {
     if (m_device) {
         vkDeviceWaitIdle(m_device);
+        m_kernels.clear();
+        m_layout.reset();
         if (m_commandPool) vkDestroyCommandPool(m_device, m_commandPool, nullptr);
         vkDestroyDevice(m_device, nullptr);
         m_device = VK_NULL_HANDLE;
@@ -423,6 +426,17 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     }
     vkDestroyFence(m_device, fence, nullptr);
     vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
+}
+
+const PipelineLayout& Context::layout() {
+    if (!m_layout) m_layout = std::make_unique<PipelineLayout>(*this);
+    return *m_layout;
+}
+
+const Kernel& Context::kernel(const std::string& shaderName) {
+    auto& slot = m_kernels[shaderName];
+    if (!slot) slot = std::make_unique<Kernel>(layout(), shaderName);
+    return *slot;
 }
 
 void Context::setName(VkObjectType type, uint64_t handle, const char* name) const {

@@ -9,11 +9,16 @@
 #include <volk.h>
 
 #include <functional>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 namespace pmcr::vk {
+
+class PipelineLayout;
+class Kernel;
 
 struct ContextOptions {
     bool validate = false;       // enable VK_LAYER_KHRONOS_validation (+ synchronization checks)
@@ -68,6 +73,12 @@ public:
     // Names a Vulkan object for validation messages and debuggers (no-op without validation).
     void setName(VkObjectType type, uint64_t handle, const char* name) const;
 
+    // The one pipeline layout every kernel uses (shared/bindings.h), and each kernel's pipeline,
+    // built on first use and kept: lavapipe translates SPIR-V on every pipeline creation (tenths
+    // of a second for the path tracer), so a process that renders many times builds each once.
+    const PipelineLayout& layout();
+    const Kernel& kernel(const std::string& shaderName);
+
 private:
     void destroy();
     static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
@@ -90,6 +101,9 @@ private:
 
     mutable std::mutex m_messageMutex;
     std::vector<std::string> m_messages;
+
+    std::unique_ptr<PipelineLayout> m_layout;
+    std::map<std::string, std::unique_ptr<Kernel>> m_kernels;
 };
 
 }  // namespace pmcr::vk

@@ -102,6 +102,7 @@ std::string PixelTestResult::describe() const {
     std::ostringstream s;
     s << failing << " of " << pixels << " pixels fail (pass fraction " << passFraction
       << ", worst |z| " << worstZ << ")";
+    for (const auto& f : failures) s << "; " << f;
     return s.str();
 }
 
@@ -128,7 +129,15 @@ PixelTestResult pixelZTest(const std::vector<float>& mean, const std::vector<flo
             const double z = diff / std::sqrt(var);
             r.worstZ = std::max(r.worstZ, std::abs(z));
             const double pValue = 2.0 * (1.0 - normalCdf(std::abs(z)));
-            if (pValue < level) pass = false;
+            if (pValue < level) {
+                pass = false;
+                if (r.failures.size() < 8) {
+                    std::ostringstream f;
+                    f << "pixel " << p << " channel " << c << ": " << mean[i] << " vs " << reference[i]
+                      << " (z " << z << ")";
+                    r.failures.push_back(f.str());
+                }
+            }
         }
         if (!pass) ++r.failing;
     }

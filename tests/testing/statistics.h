@@ -41,6 +41,7 @@ struct PixelTestResult {
     int failing = 0;
     int pixels = 0;
     double worstZ = 0.0;
+    std::vector<std::string> failures;  // the first few failing pixels, described
     std::string describe() const;
 };
 PixelTestResult pixelZTest(const std::vector<float>& mean, const std::vector<float>& variance,
