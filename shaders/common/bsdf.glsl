@@ -240,6 +240,10 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
         }
         vec3 m = ggxSampleVisibleNormal(wo, b.alpha, u);
         s.wi = reflect(-wo, m);
+        // bsdfEval and bsdfPdf tell reflection from transmission by the side of wi, so a
+        // reflection below the surface (or a refraction above it) would be scored with another
+        // lobe's value and density: such samples fail, as in pbrt-v4, and bsdfPdf leaves them out.
+        if (s.wi.z <= 0.0) return false;
     } else if (uLobe < p.x + p.y + p.z) {
         s.lobe = LOBE_CONDUCTOR;
         if (isSmooth) {
@@ -252,6 +256,7 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
         }
         vec3 m = ggxSampleVisibleNormal(wo, b.alpha, u);
         s.wi = reflect(-wo, m);
+        if (s.wi.z <= 0.0) return false;
     } else if (p.w > 0.0) {
         s.lobe = LOBE_DIELECTRIC;
         // Re-use the lobe sample's remainder to choose reflection or transmission.
@@ -271,9 +276,10 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
         float F = fresnelDielectric(dot(wo, m), b.eta);
         if (uChoice < F) {
             s.wi = reflect(-wo, m);
+            if (s.wi.z <= 0.0) return false;
         } else {
             vec3 wt;
-            if (!refractDirection(wo, m, b.eta, wt)) return false;
+            if (!refractDirection(wo, m, b.eta, wt) || wt.z >= 0.0) return false;
             s.wi = wt;
         }
     } else {

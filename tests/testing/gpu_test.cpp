@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <map>
 
 #include "shared/host_device.h"
 
@@ -30,6 +31,16 @@ vk::PipelineLayout& gpuLayout() {
     return *layout;
 }
 
+vk::Kernel& gpuKernel(const std::string& shader) {
+    // Pipelines are built once per binary: lavapipe compiles each one with LLVM (tens of ms).
+    // The layout (and context) exist before the cache, so they outlive it at exit.
+    vk::PipelineLayout& layout = gpuLayout();
+    static std::map<std::string, std::unique_ptr<vk::Kernel>> kernels;
+    auto& slot = kernels[shader];
+    if (!slot) slot = std::make_unique<vk::Kernel>(layout, shader);
+    return *slot;
+}
+
 void GpuTest::SetUp() { context().clearValidationMessages(); }
 
 void GpuTest::TearDown() {
@@ -40,8 +51,9 @@ void GpuTest::TearDown() {
 }
 
 void GpuTest::runRaw(const std::string& shader, const void* push, uint32_t pushBytes,
-                     uint32_t invocations, std::initializer_list<const vk::Buffer*> buffers) {
-    vk::Kernel kernel(layout(), shader);
+                     uint32_t invocations, std::initializer_list<const vk::Buffer*> buffers,
+                     const vk::DescriptorSet* scene) {
+    const vk::Kernel& kernel = gpuKernel(shader);
     vk::DescriptorSet work(layout(), vk::DescriptorSet::Kind::Work, shader + " work set");
     uint32_t binding = 0;
     for (const vk::Buffer* buffer : buffers) {
@@ -49,6 +61,7 @@ void GpuTest::runRaw(const std::string& shader, const void* push, uint32_t pushB
         ++binding;
     }
     vk::CommandBatch batch(layout());
+    if (scene) batch.bind(*scene);
     batch.bind(work);
     batch.dispatch(kernel, push, pushBytes, invocations);
     batch.submitAndWait();

@@ -1,0 +1,374 @@
+// shaders/common/bsdf.glsl over a grid of materials and outgoing directions (pbrt-v4
+// `bsdfs_test.cpp` habits):
+//   - directions bsdfSample draws through non-delta lobes follow bsdfPdf (chi-square over graded
+//     cells of the sphere), delta samples come with the frequency of their discrete probability;
+//   - bsdfPdf integrates to 1 minus the delta probability minus the share of failed samples;
+//   - a non-delta sample carries bsdfEval and bsdfPdf of its direction;
+//   - the directional albedo (energy, transmission scaled back by eta^2) is at most 1, exactly 1
+//     for white smooth glass and the base colour for the Lambertian;
+//   - f is reciprocal for reflection and obeys f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 for
+//     transmission (radiance convention).
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "distribution_test.h"
+#include "gpu_test.h"
+
+namespace pmcr::test {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct BsdfPush {
+    uint32_t mode;
+    uint32_t count;
+    uint32_t seed;
+    uint32_t frontSide;
+    glm::vec3 baseColor;
+    float metallic;
+    float roughness;
+    float transmission;
+    float ior;
+    glm::vec3 wo;
+};
+
+enum BsdfMode : uint32_t { Sample = 0, Eval, Info };
+
+// bsdf.glsl lobe ids (LOBE_*).
+enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric };
+
+struct MaterialCase {
+    std::string name;
+    glm::vec3 baseColor;
+    float metallic;
+    float roughness;
+    float transmission;
+    float ior;
+    bool frontSide;
+};
+
+const glm::vec3 kColour(0.8f, 0.5f, 0.3f);
+const glm::vec3 kWhite(1.0f);
+
+const std::vector<MaterialCase>& materials() {
+    static const std::vector<MaterialCase> cases = {
+        {"diffuse", kColour, 0, 1, 0, 1.5f, true},
+        {"coat smooth", kColour, 0, 0, 0, 1.5f, true},
+        {"coat 0.05", kColour, 0, 0.05f, 0, 1.5f, true},
+        {"coat 0.3", kColour, 0, 0.3f, 0, 1.5f, true},
+        {"coat 0.7", kColour, 0, 0.7f, 0, 1.5f, true},
+        {"conductor smooth", glm::vec3(0.9f, 0.6f, 0.3f), 1, 0, 0, 1.5f, true},
+        {"conductor 0.1", glm::vec3(0.9f, 0.6f, 0.3f), 1, 0.1f, 0, 1.5f, true},
+        {"conductor 0.5", glm::vec3(0.9f, 0.6f, 0.3f), 1, 0.5f, 0, 1.5f, true},
+        {"glass smooth entering", kWhite, 0, 0, 1, 1.5f, true},
+        {"glass smooth exiting", kWhite, 0, 0, 1, 1.5f, false},
+        {"glass 0.1 entering", kWhite, 0, 0.1f, 1, 1.5f, true},
+        {"glass 0.1 exiting", kWhite, 0, 0.1f, 1, 1.5f, false},
+        {"glass 0.4 entering", kWhite, 0, 0.4f, 1, 1.5f, true},
+        {"glass 0.4 exiting", kWhite, 0, 0.4f, 1, 1.5f, false},
+        {"metallic 0.5", kColour, 0.5f, 0.3f, 0, 1.5f, true},
+        {"transmission 0.5", glm::vec3(0.9f, 0.8f, 0.7f), 0, 0.3f, 0.5f, 1.5f, true},
+        {"transmission 0.5 smooth", glm::vec3(0.9f, 0.8f, 0.7f), 0, 0, 0.5f, 1.5f, true},
+    };
+    return cases;
+}
+
+// cos(theta_o) of the outgoing directions: near normal to grazing (about 88 degrees).
+constexpr double kCosThetaO[] = {0.95, 0.6, 0.25, 0.04};
+
+glm::vec3 woAt(double cosTheta) {
+    return glm::vec3(float(std::sqrt(1.0 - cosTheta * cosTheta)), 0.0f, float(cosTheta));
+}
+
+struct BsdfSampleResult {
+    glm::vec3 wi;
+    float pdf;
+    glm::vec3 f;
+    float flags;  // ok + 2 delta + 4 lobe
+    bool ok() const { return (uint32_t(flags) & 1u) != 0; }
+    bool delta() const { return (uint32_t(flags) & 2u) != 0; }
+    uint32_t lobe() const { return uint32_t(flags) >> 2; }
+};
+static_assert(sizeof(BsdfSampleResult) == 32);
+
+class BsdfTest : public GpuTest {
+protected:
+    BsdfPush push(const MaterialCase& m, BsdfMode mode, uint32_t count, glm::vec3 wo,
+                  uint32_t seed = 0, bool frontSide = true) {
+        BsdfPush p{};
+        p.mode = mode;
+        p.count = count;
+        p.seed = seed;
+        p.frontSide = frontSide ? 1u : 0u;
+        p.baseColor = m.baseColor;
+        p.metallic = m.metallic;
+        p.roughness = m.roughness;
+        p.transmission = m.transmission;
+        p.ior = m.ior;
+        p.wo = wo;
+        return p;
+    }
+    std::vector<BsdfSampleResult> sample(const MaterialCase& m, glm::vec3 wo, uint32_t n,
+                                         uint32_t seed) {
+        auto unused = zeros(16);
+        auto out = zeros(size_t(n) * sizeof(BsdfSampleResult), "bsdf samples");
+        run("tests/bsdf_test", push(m, Sample, n, wo, seed, m.frontSide), n, {&unused, &out});
+        return out.download<BsdfSampleResult>(n);
+    }
+    // (bsdfEval, bsdfPdf) for each (wo, wi) pair.
+    std::vector<glm::vec4> eval(const MaterialCase& m, const std::vector<glm::vec3>& wos,
+                                const std::vector<glm::vec3>& wis, bool frontSide) {
+        std::vector<glm::vec4> in;
+        in.reserve(2 * wis.size());
+        for (size_t i = 0; i < wis.size(); ++i) {
+            in.push_back(glm::vec4(wos[i], 0.0f));
+            in.push_back(glm::vec4(wis[i], 0.0f));
+        }
+        const uint32_t n = uint32_t(wis.size());
+        auto inBuf = storage(in, "bsdf queries");
+        auto out = zeros(size_t(n) * 16, "bsdf values");
+        run("tests/bsdf_test", push(m, Eval, n, glm::vec3(0, 0, 1), 0, frontSide), n,
+            {&inBuf, &out});
+        return out.download<glm::vec4>(n);
+    }
+    DensityBatch pdfAt(const MaterialCase& m, glm::vec3 wo) {
+        return [=, this](const std::vector<glm::vec3>& wis) {
+            const auto r = eval(m, std::vector<glm::vec3>(wis.size(), wo), wis, m.frontSide);
+            std::vector<double> v(r.size());
+            for (size_t i = 0; i < r.size(); ++i)
+                v[i] = r[i].w;
+            return v;
+        };
+    }
+    // lobeSelectProbabilities(wo) and (fresnelDielectric(wo.z, eta), eta, bsdfHasNonDelta).
+    std::pair<glm::vec4, glm::vec4> info(const MaterialCase& m, glm::vec3 wo) {
+        auto unused = zeros(16);
+        auto out = zeros(32, "bsdf info");
+        run("tests/bsdf_test", push(m, Info, 1, wo, 0, m.frontSide), 1, {&unused, &out});
+        const auto r = out.download<glm::vec4>(2);
+        return {r[0], r[1]};
+    }
+    void checkSampling(const MaterialCase& m, double cosO, uint32_t seed);
+};
+
+// Cells graded towards the mirror direction above the surface and the refracted one below, and
+// towards phi = pi (both lie opposite wo, which is at phi = 0), by the lobe width ~ alpha.
+SphereGrid lobeGrid(const MaterialCase& m, glm::vec3 wo, float eta) {
+    const double alpha = std::max(double(m.roughness) * m.roughness, 1e-3);
+    const double zr = wo.z, sinR = std::sqrt(1 - zr * zr);
+    const double sinT = sinR / eta;
+    const double zt = sinT < 1.0 ? -std::sqrt(1 - sinT * sinT) : -zr;
+    const double zFirst = std::max({0.25 * alpha * sinR, 0.25 * alpha * alpha, 1e-5});
+    std::vector<double> z = gradedBreaks(-1.0, zt, 0.0, 16, zFirst);
+    z.pop_back();
+    for (double b : gradedBreaks(0.0, zr, 1.0, 16, zFirst))
+        z.push_back(b);
+    const double phiFirst = 0.25 * alpha / std::max(sinR, alpha);
+    return SphereGrid(z, gradedBreaks(0.0, kPi, 2 * kPi, 32, phiFirst));
+}
+
+std::string describe(const MaterialCase& m, double cosO) {
+    return m.name + ", cos(theta_o) " + std::to_string(cosO);
+}
+
+// Sampling against the stated densities, normalisation, sample consistency and energy for one
+// material and outgoing direction.
+void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) {
+    const uint32_t n = 1 << 17;
+    const glm::vec3 wo = woAt(cosO);
+    const auto [p, extra] = info(m, wo);
+    const float fresnel = extra.x, eta = extra.y;
+    const bool smooth = m.roughness * m.roughness < 1e-3f;  // bsdfSmooth: alpha < SMOOTH_ALPHA
+
+    // Discrete probabilities of the delta outcomes, from the lobe selection probabilities.
+    // Categories: coat mirror, conductor mirror, glass reflection, glass transmission.
+    double deltaExpected[4] = {0, 0, 0, 0};
+    if (smooth) {
+        deltaExpected[0] = p.y;
+        deltaExpected[1] = p.z;
+        deltaExpected[2] = p.w * fresnel;
+        deltaExpected[3] = p.w * (1 - fresnel);
+    }
+    double deltaTotal = 0.0;
+    for (double d : deltaExpected)
+        deltaTotal += d;
+
+    const auto samples = sample(m, wo, n, seed);
+    double deltaObserved[4] = {0, 0, 0, 0};
+    double failed = 0.0;
+    glm::dvec3 energy(0.0), energySq(0.0);
+    std::vector<glm::dvec3> directions;
+    std::vector<size_t> nonDelta;
+    for (size_t i = 0; i < samples.size(); ++i) {
+        const BsdfSampleResult& s = samples[i];
+        if (!s.ok()) {
+            failed += 1.0;
+            continue;
+        }
+        ASSERT_NEAR(glm::length(s.wi), 1.0f, 1e-4f) << i;
+        ASSERT_GT(s.pdf, 0.0f) << i;
+        ASSERT_TRUE(std::isfinite(s.pdf) && std::isfinite(s.f.x) && std::isfinite(s.f.y) &&
+                    std::isfinite(s.f.z))
+            << i;
+        ASSERT_GE(std::min({s.f.x, s.f.y, s.f.z}), 0.0f) << i;
+        // Energy weight: f |cos| / pdf, transmission scaled back by eta^2 (radiance mode
+        // divides it by eta^2).
+        glm::dvec3 w = glm::dvec3(s.f) * std::abs(double(s.wi.z)) / double(s.pdf);
+        if (s.wi.z < 0.0f)
+            w *= double(eta) * eta;
+        energy += w;
+        energySq += w * w;
+        if (s.delta()) {
+            ASSERT_TRUE(smooth) << "delta sample from a rough material, lobe " << s.lobe();
+            int category = -1;
+            if (s.lobe() == LobeCoat)
+                category = 0;
+            if (s.lobe() == LobeConductor)
+                category = 1;
+            if (s.lobe() == LobeDielectric)
+                category = s.wi.z > 0.0f ? 2 : 3;
+            ASSERT_GE(category, 0) << "delta sample of lobe " << s.lobe();
+            ASSERT_NEAR(s.pdf, deltaExpected[category], 1e-5) << "discrete probability";
+            if (s.wi.z > 0.0f) {
+                ASSERT_EQ(s.wi, glm::vec3(-wo.x, -wo.y, wo.z)) << "mirror direction";
+            } else {
+                // Snell's law in the plane of incidence, on the far side of the normal.
+                ASSERT_NEAR(-s.wi.x * eta, wo.x, 1e-5f);
+                ASSERT_EQ(s.wi.y, 0.0f);
+            }
+            deltaObserved[category] += 1.0;
+        } else {
+            directions.push_back(glm::dvec3(s.wi));
+            nonDelta.push_back(i);
+        }
+    }
+    const std::string what = describe(m, cosO);
+
+    // (c) A non-delta sample carries bsdfEval and bsdfPdf of its direction.
+    {
+        const size_t k = std::min<size_t>(nonDelta.size(), 2048);
+        std::vector<glm::vec3> wis(k);
+        for (size_t j = 0; j < k; ++j)
+            wis[j] = samples[nonDelta[j]].wi;
+        const auto values = eval(m, std::vector<glm::vec3>(k, wo), wis, m.frontSide);
+        for (size_t j = 0; j < k; ++j) {
+            const BsdfSampleResult& s = samples[nonDelta[j]];
+            ASSERT_NEAR(s.pdf, values[j].w, 1e-5f * values[j].w) << what << " sample " << j;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(s.f[c], values[j][c], 1e-5f * values[j][c]) << what << " sample " << j;
+        }
+    }
+
+    // (a) Sampled directions against bsdfPdf integrated per cell, delta outcomes against their
+    // probabilities, in one Pearson test.
+    const SphereGrid grid = lobeGrid(m, wo, eta);
+    const CellIntegrals integrals = integrateCells(grid, pdfAt(m, wo), countTolerance(n));
+    std::vector<double> observed = grid.histogram(directions);
+    std::vector<double> expected = expectedCounts(grid, integrals, n, directions, pdfAt(m, wo));
+    int categories = 0;
+    for (int c = 0; c < 4; ++c) {
+        observed.push_back(deltaObserved[c]);
+        expected.push_back(n * deltaExpected[c]);
+        categories += deltaExpected[c] > 0.0 ? 1 : 0;
+    }
+    EXPECT_EQ(extra.z != 0.0f, integrals.total() > 0.0) << what << ": bsdfHasNonDelta";
+    if (integrals.total() > 0.0 || categories > 1) {
+        EXPECT_TRUE(chi2Passes(observed, expected, "bsdfSample " + what));
+    } else {
+        // One delta outcome only: every sample takes it.
+        for (int c = 0; c < 4; ++c)
+            EXPECT_EQ(deltaObserved[c], n * deltaExpected[c]) << what;
+    }
+
+    // (b) bsdfPdf integrates to the share of samples that are neither delta nor failed. (Rough
+    // reflection may leave the hemisphere: such samples fail, and pdf excludes them.)
+    const double failedShare = failed / n;
+    const double nonDeltaShare = 1.0 - deltaTotal - failedShare;
+    EXPECT_NEAR(integrals.total(), nonDeltaShare,
+                2.0 * integrals.error + 5.0 * std::sqrt(failedShare * (1 - failedShare) / n) + 2e-4)
+        << what << ": integral of bsdfPdf (delta " << deltaTotal << ", failed " << failedShare
+        << ")";
+
+    // (d) Energy: the directional albedo is at most 1.
+    const glm::dvec3 mean = energy / double(n);
+    const glm::dvec3 stdError =
+        glm::sqrt(glm::max(energySq / double(n) - mean * mean, 0.0) / double(n));
+    for (int c = 0; c < 3; ++c)
+        EXPECT_LE(mean[c], 1.0 + 5.0 * stdError[c] + 1e-4) << what << " albedo channel " << c;
+    if (m.name.rfind("glass smooth", 0) == 0) {
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(mean[c], 1.0, 1e-4) << what << " white glass";
+    }
+    if (m.name == "diffuse") {
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(mean[c], m.baseColor[c], 1e-4) << what;
+    }
+}
+
+class BsdfSampling : public BsdfTest, public ::testing::WithParamInterface<size_t> {};
+
+TEST_P(BsdfSampling, MatchesPdfAndConservesEnergy) {
+    const MaterialCase& m = materials()[GetParam()];
+    uint32_t seed = 1000 + 16 * uint32_t(GetParam());
+    for (double cosO : kCosThetaO) {
+        SCOPED_TRACE(describe(m, cosO));
+        checkSampling(m, cosO, ++seed);
+        if (HasFatalFailure())
+            return;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Materials, BsdfSampling, ::testing::Range<size_t>(0, materials().size()),
+                         [](const ::testing::TestParamInfo<size_t>& info) {
+                             std::string name = materials()[info.param].name;
+                             for (char& c : name)
+                                 if (!std::isalnum(static_cast<unsigned char>(c)))
+                                     c = '_';
+                             return name;
+                         });
+
+TEST_F(BsdfTest, Reciprocity) {
+    std::mt19937 gen(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    auto upper = [&] { return glm::vec3(directionFromZPhi(u(gen), 2 * kPi * u(gen))); };
+    const size_t n = 2048;
+    std::vector<glm::vec3> a(n), b(n), bLower(n), aFlipped(n), bFlipped(n);
+    for (size_t i = 0; i < n; ++i) {
+        a[i] = upper();
+        b[i] = upper();
+        bLower[i] = glm::vec3(b[i].x, b[i].y, -b[i].z);
+        // Seen from the other side the local frame flips z (an isotropic BSDF does not mind the
+        // reflection of the tangent plane this amounts to).
+        aFlipped[i] = glm::vec3(a[i].x, a[i].y, -a[i].z);
+        bFlipped[i] = b[i];
+    }
+    for (const MaterialCase& m : materials()) {
+        if (!m.frontSide)
+            continue;
+        SCOPED_TRACE(m.name);
+        // Reflection: f(a, b) = f(b, a).
+        const auto ab = eval(m, a, b, true), ba = eval(m, b, a, true);
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(ab[i][c], ba[i][c], 2e-4f * std::max(ab[i][c], 1.0f)) << "pair " << i;
+        if (m.transmission == 0.0f)
+            continue;
+        // Transmission from outside (eta 1) to inside (eta = ior) and back:
+        // f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2.
+        const auto in = eval(m, a, bLower, true), out = eval(m, bFlipped, aFlipped, false);
+        const float ior2 = m.ior * m.ior;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(in[i][c], out[i][c] / ior2, 2e-4f * std::max(in[i][c], 1.0f))
+                    << "pair " << i;
+    }
+}
+
+}  // namespace
+}  // namespace pmcr::test
