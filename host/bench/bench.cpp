@@ -199,32 +199,47 @@ float autoExposure(const Image& reference) {
     return mean > 0.0 && std::isfinite(mean) ? float(std::log2(0.18 / mean)) : 0.0f;
 }
 
-BenchReport runBench(vk::Context& context, const Scene& scene, const BenchOptions& options) {
+BenchReport prepareBench(const Scene& scene, const BenchOptions& options) {
     if (options.methods.empty())
         throw Error("bench: no methods (--methods)");
     if (options.base.timeLimit <= 0.0 && options.base.spp == 0)
         throw Error("bench: give a budget: --time SECONDS and/or --budget-spp N");
+    if (!options.reference && options.referenceSpp == 0)
+        throw Error("bench: give --reference REF.exr, or --reference-spp N to render one");
     BenchReport report;
     report.options = options;
     report.scene = scene.path;
-    report.device = context.deviceName();
-    RenderSettings base = options.base;
-    if (options.reference) {
+    RenderSettings& base = report.options.base;
+    if (options.reference)
         loadReference(report, base, scene, *options.reference);
-    } else {
-        if (options.referenceSpp == 0)
-            throw Error("bench: give --reference REF.exr, or --reference-spp N to render one");
+    else
         resolveImageSize(scene, base);
-    }
-    // A crop outside the image is bad input: say so before rendering anything.
     checkCrops(options.crops, base.width, base.height);
-    if (!options.reference) {
-        renderReference(report, context, scene, base, options.referenceSpp);
-        if (report.interrupted)
-            return report;
+    // Options of the implemented methods, values included (creating an integrator parses them).
+    for (const BenchMethod& m : options.methods) {
+        const MethodInfo* info = findMethod(m.method);
+        if (!info || !info->create)
+            continue;
+        RenderSettings s = base;
+        s.method = m.method;
+        s.options = m.options;
+        validateMethodOptions(s);
+        info->create(s);
     }
     report.width = base.width;
     report.height = base.height;
+    return report;
+}
+
+void runBench(vk::Context& context, const Scene& scene, BenchReport& report) {
+    const BenchOptions& options = report.options;
+    const RenderSettings& base = options.base;
+    report.device = context.deviceName();
+    if (!options.reference) {
+        renderReference(report, context, scene, base, options.referenceSpp);
+        if (report.interrupted)
+            return;
+    }
     report.exposure = options.exposure ? *options.exposure : autoExposure(report.reference);
 
     const size_t count = options.methods.size();
@@ -251,7 +266,7 @@ BenchReport runBench(vk::Context& context, const Scene& scene, const BenchOption
         RenderResult r = renderScene(context, scene, s);
         if (r.interrupted) {
             report.interrupted = true;
-            return report;
+            return;
         }
         MetricOptions m = metricOptions(options);
         m.imageName = run.method.label;
@@ -301,7 +316,6 @@ BenchReport runBench(vk::Context& context, const Scene& scene, const BenchOption
         largest = std::max(largest, *std::max_element(map.begin(), map.end()));
     }
     report.errorScale = scale > 0.0f ? scale : largest > 0.0f ? largest : 1.0f;
-    return report;
 }
 
 }  // namespace pmcr

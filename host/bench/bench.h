@@ -77,7 +77,7 @@ struct BenchRun {
 };
 
 struct BenchReport {
-    BenchOptions options;
+    BenchOptions options;  // options.base with the image size resolved
     std::filesystem::path scene;
     std::string device;
     int width = 0, height = 0;
@@ -96,8 +96,14 @@ struct BenchReport {
 // black reference.
 float autoExposure(const Image& reference);
 
-// Runs the bench. Throws pmcr::Error for bad input (reference size or seed, see the README);
-// returns with `interrupted` set when the user interrupted a render.
-BenchReport runBench(vk::Context& context, const Scene& scene, const BenchOptions& options);
+// Checks the options and loads the reference before any device work: throws pmcr::Error for bad
+// input (a reference of the wrong size or sharing the bench's seed, a crop outside the image, a
+// bad method option). Returns the report to run, with the image size resolved
+// (report.options.base).
+BenchReport prepareBench(const Scene& scene, const BenchOptions& options);
+
+// Renders the reference (without --reference), then each method, and measures them. Stops early
+// with report.interrupted set when the user interrupts a render.
+void runBench(vk::Context& context, const Scene& scene, BenchReport& report);
 
 }  // namespace pmcr

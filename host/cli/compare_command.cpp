@@ -125,7 +125,9 @@ int runCompare(Args& args) {
         const PixelRect& r = m.region;
         const Image a = crop(image, r.x, r.y, r.width, r.height);
         const Image b = crop(reference, r.x, r.y, r.width, r.height);
-        const std::vector<float> map = luminanceErrorMap(a, b, options);
+        MetricOptions names = options;
+        names.cropped = false;
+        const std::vector<float> map = luminanceErrorMap(a, b, names);
         float scale = errorMax ? float(*errorMax) : quantile(map, 0.99);
         if (!(scale > 0.0f))
             scale = 1.0f;
@@ -337,18 +339,10 @@ int runBench(Args& args) {
         throw Error("--reference and --reference-spp contradict each other");
     if (!o.reference && o.referenceSpp == 0)
         throw Error("bench: give --reference REF.exr, or --reference-spp N to render one");
-    // Method options are checked now, not after the first methods have run.
-    for (const BenchMethod& m : o.methods) {
-        if (!findMethod(m.method)->create)
-            continue;
-        RenderSettings check = s;
-        check.method = m.method;
-        check.options = m.options;
-        validateMethodOptions(check);
-    }
     checkBenchOutputDir(*out);
     log::setQuiet(s.quiet);
     Scene scene = loadScene(*scenePath);
+    BenchReport report = prepareBench(scene, o);
 
     vk::ContextOptions contextOptions;
     contextOptions.validate = s.validate;
@@ -357,7 +351,7 @@ int runBench(Args& args) {
     log::info("device: " + context.deviceName() + " (" + context.deviceTypeName() + ")");
 
     installInterruptHandler();
-    const BenchReport report = runBench(context, scene, o);
+    runBench(context, scene, report);
     if (report.interrupted) {
         std::fprintf(stderr, "pmcr: bench interrupted; no report written\n");
         return 130;
