@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "metrics/merge.h"
 #include "render/methods.h"
 #include "render/renderer.h"
 #include "render/stats.h"
@@ -74,14 +75,7 @@ void loadReference(BenchReport& report, RenderSettings& base, const Scene& scene
     const nlohmann::json stats = nlohmann::json::parse(in, nullptr, false);
     if (stats.is_discarded() || !stats.is_object())
         fail(statsPath.string(), "not a pmcr stats JSON object");
-    std::vector<uint32_t> seeds;
-    if (auto s = stats.find("seeds"); s != stats.end() && s->is_array()) {
-        for (const auto& v : *s)
-            if (v.is_number_unsigned())
-                seeds.push_back(v.get<uint32_t>());
-    } else if (auto s1 = stats.find("seed"); s1 != stats.end() && s1->is_number_unsigned()) {
-        seeds.push_back(s1->get<uint32_t>());
-    }
+    const std::vector<uint32_t> seeds = renderSeeds(stats);
     if (std::find(seeds.begin(), seeds.end(), base.seed) != seeds.end())
         fail(name, "was rendered with seed " + std::to_string(base.seed) +
                        ", the seed of this bench: the methods would share its samples; give the "

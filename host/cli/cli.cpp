@@ -5,7 +5,9 @@
 #include <string>
 
 #include "cli/args.h"
+#include "cli/bench_command.h"
 #include "cli/compare_command.h"
+#include "cli/merge_command.h"
 #include "cli/render_command.h"
 #include "core/error.h"
 #include "vk/context.h"

@@ -1,4 +1,4 @@
-// `pmcr compare IMAGE REFERENCE`, `pmcr merge IMAGE... -o OUT` and `pmcr bench SCENE ...`.
+// `pmcr compare IMAGE REFERENCE`: the papers' error and efficiency metrics (metrics/metrics.h).
 #pragma once
 
 #include "cli/args.h"
@@ -7,11 +7,5 @@ namespace pmcr::cli {
 
 int runCompare(Args& args);
 void printCompareHelp();
-
-int runMerge(Args& args);
-void printMergeHelp();
-
-int runBench(Args& args);
-void printBenchHelp();
 
 }  // namespace pmcr::cli
