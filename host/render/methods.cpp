@@ -1,6 +1,7 @@
 #include "render/methods.h"
 
 #include "core/error.h"
+#include "render/erpt_integrator.h"
 #include "render/pt_integrator.h"
 
 namespace pmcr {
@@ -19,7 +20,21 @@ const std::vector<MethodInfo>& methods() {
         {"pmc-ip-direct", "PMC-IP over MIS direct lighting", true, {}, nullptr, "issue 5"},
         {"pmc-hi", "PMC-HI adaptive direct lighting", true, {}, nullptr, "issue 6"},
         {"pmc-ip-hi", "PMC-IP with PMC-HI feedback", true, {}, nullptr, "issue 6"},
-        {"erpt", "energy redistribution path tracing", true, {}, nullptr, "issue 7"},
+        {"erpt", "energy redistribution path tracing (equal deposition, lens and caustic perturbations)",
+         true,
+         {{"chain-length", "100", "mutations per chain, m"},
+          {"mutations-per-pixel", "16", "k: e_d = mean pixel luminance / k, per seed pass (--spp passes)"},
+          {"prepass-spp", "4", "path-traced samples per pixel estimating the mean luminance"},
+          {"lens-radius", "5", "lens perturbation disk radius in pixels"},
+          {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
+          {"caustic-theta-max", "0.1", "... to (radians)"},
+          {"mutation", "erpt", "erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
+          {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
+          {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
+          {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
+          {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
+          {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
+         [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""},
         {"pmc-er", "population Monte Carlo energy redistribution", true, {}, nullptr, "issue 8"},
         {"pmc-pt", "population Monte Carlo path tracing", true, {}, nullptr, "issue 9"},
     };

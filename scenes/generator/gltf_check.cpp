@@ -157,14 +157,30 @@ private:
         return object[key].get<double>();
     }
 
-    // GLB container (glTF 2.0 section 4.4): header, JSON chunk, optional BIN chunk.
-    void readContainer(const std::filesystem::path& path) {
+    static std::vector<uint8_t> readBytes(const std::filesystem::path& path) {
         std::ifstream stream(path, std::ios::binary);
         if (!stream)
-            problem("cannot open");
-        const std::vector<uint8_t> data{std::istreambuf_iterator<char>(stream),
-                                        std::istreambuf_iterator<char>()};
+            fail(path.string(), "cannot open");
+        return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+    }
+
+    // A .gltf is the JSON text alone; its buffers are files named by uri (section 3.6.1.1).
+    void readContainer(const std::filesystem::path& path) {
+        m_directory = path.parent_path();
+        const std::vector<uint8_t> data = readBytes(path);
         m_report.fileBytes = data.size();
+        if (path.extension() == ".gltf") {
+            m_glb = false;
+            m_json = Json::parse(data.begin(), data.end(), nullptr, false);
+            if (m_json.is_discarded() || !m_json.is_object())
+                problem("not valid JSON");
+            return;
+        }
+        readGlb(data);
+    }
+
+    // GLB container (glTF 2.0 section 4.4): header, JSON chunk, optional BIN chunk.
+    void readGlb(const std::vector<uint8_t>& data) {
         if (data.size() < 20)
             problem("too short for a .glb");
         if (readU32(data, 0) != 0x46546C67u)
@@ -193,7 +209,7 @@ private:
             if (binLength % 4 != 0 || offset + 8 + binLength != data.size()) {
                 problem("BIN chunk length is misaligned or does not end the file");
             }
-            m_bin.assign(data.begin() + long(offset) + 8, data.end());
+            m_glbBin.assign(data.begin() + long(offset) + 8, data.end());
         }
     }
 
@@ -225,13 +241,24 @@ private:
         const Json& buffers = array("buffers");
         for (size_t b = 0; b < buffers.size(); ++b) {
             const std::string where = "buffer " + std::to_string(b);
-            if (buffers[b].contains("uri"))
-                problem(where + " is external; expected GLB-stored");
             const size_t length =
                 unsignedValue(member(buffers[b], "byteLength", where), where + ".byteLength");
-            // The BIN chunk may be up to 3 bytes longer than the buffer (section 4.4.3.3).
-            if (b != 0 || length > m_bin.size() || m_bin.size() - length > 3) {
-                problem(where + ".byteLength does not match the BIN chunk");
+            if (m_glb) {
+                if (buffers[b].contains("uri"))
+                    problem(where + " is external; expected GLB-stored");
+                // The BIN chunk may be up to 3 bytes longer than the buffer (section 4.4.3.3).
+                if (b != 0 || length > m_glbBin.size() || m_glbBin.size() - length > 3) {
+                    problem(where + ".byteLength does not match the BIN chunk");
+                }
+                m_buffers.push_back(m_glbBin);
+                continue;
+            }
+            m_buffers.push_back(readExternal(member(buffers[b], "uri", where), where));
+            // The generator writes each file exactly; a longer or shorter one is stale.
+            if (m_buffers.back().size() != length) {
+                problem(where + ".byteLength is " + std::to_string(length) + " but " +
+                        buffers[b]["uri"].get<std::string>() + " holds " +
+                        std::to_string(m_buffers.back().size()) + " bytes");
             }
         }
         const Json& views = array("bufferViews");
@@ -258,6 +285,24 @@ private:
                 }
             }
         }
+    }
+
+    // A buffer file: a relative path below the .gltf's folder (no data: URI, no "..").
+    std::vector<uint8_t> readExternal(const Json& uri, const std::string& where) {
+        if (!uri.is_string())
+            problem(where + ".uri is not a string");
+        const std::string text = uri.get<std::string>();
+        const std::filesystem::path relative(text);
+        if (text.empty() || text.starts_with("data:") || relative.is_absolute() ||
+            text.find('\\') != std::string::npos || text.find('%') != std::string::npos) {
+            problem(where + ".uri '" + text + "' is not a plain relative file name");
+        }
+        for (const auto& part : relative) {
+            if (part == "..")
+                problem(where + ".uri '" + text + "' leaves the scene's folder");
+        }
+        m_report.externalFiles.push_back(text);
+        return readBytes(m_directory / relative);
     }
 
     Accessor accessor(size_t index) const {
@@ -297,7 +342,7 @@ private:
         if (offset + result.stride * (result.count - 1) + element > viewLength) {
             problem(where + " reads past the end of bufferView " + std::to_string(viewIndex));
         }
-        result.base = m_bin.data() + viewOffset + offset;
+        result.base = m_buffers[view["buffer"].get<size_t>()].data() + viewOffset + offset;
         return result;
     }
 
@@ -591,17 +636,29 @@ private:
     void checkExtras() {
         const Json& extras = member(m_json, "extras", "the file");
         const Json& pmcr = member(extras, "pmcr", "extras");
-        const size_t w = unsignedValue(member(pmcr, "width", "extras.pmcr"), "extras.pmcr.width");
-        const size_t h = unsignedValue(member(pmcr, "height", "extras.pmcr"), "extras.pmcr.height");
-        if (w == 0 || h == 0 || w > 16384 || h > 16384)
-            problem("extras.pmcr size out of range");
-        m_report.width = int(w);
-        m_report.height = int(h);
+        auto size = [&](const char* key) {
+            const size_t v =
+                unsignedValue(member(pmcr, key, "extras.pmcr"), std::string("extras.pmcr.") + key);
+            if (v == 0 || v > 16384)
+                problem(std::string("extras.pmcr.") + key + " out of range");
+            return int(v);
+        };
+        m_report.width = size("width");
+        m_report.height = size("height");
+        if (pmcr.contains("paper_width") != pmcr.contains("paper_height"))
+            problem("extras.pmcr needs both paper_width and paper_height or neither");
+        if (pmcr.contains("paper_width")) {
+            m_report.paperWidth = size("paper_width");
+            m_report.paperHeight = size("paper_height");
+        }
     }
 
     std::string m_file;
     Json m_json;
-    std::vector<uint8_t> m_bin;
+    std::filesystem::path m_directory;
+    bool m_glb = true;
+    std::vector<uint8_t> m_glbBin;
+    std::vector<std::vector<uint8_t>> m_buffers;  // contents of buffers[i]
     std::set<std::string> m_extensionsUsed;
     std::set<std::string> m_extensionsSeen;
     std::vector<glm::dvec3> m_emission;
@@ -610,15 +667,19 @@ private:
 
 }  // namespace
 
-CheckReport checkGlb(const std::filesystem::path& path) {
+CheckReport checkScene(const std::filesystem::path& path) {
     return Checker(path).run(path);
 }
 
 std::string formatReport(const std::filesystem::path& path, const CheckReport& r) {
     std::ostringstream out;
     out.precision(6);
-    out << path.string() << ": ok, " << r.fileBytes << " bytes, " << r.width << "x" << r.height
-        << "\n  " << r.meshes << " meshes, " << r.vertices << " vertices, " << r.triangles
+    out << path.string() << ": ok, " << r.fileBytes << " bytes, " << r.width << "x" << r.height;
+    if (r.paperWidth > 0)
+        out << " (paper " << r.paperWidth << "x" << r.paperHeight << ")";
+    for (const auto& file : r.externalFiles)
+        out << ", " << file;
+    out << "\n  " << r.meshes << " meshes, " << r.vertices << " vertices, " << r.triangles
         << " triangles (" << r.smoothTriangles << " with normals), " << r.materials
         << " materials\n  emitters: " << r.emissiveMaterials << " materials, "
         << r.emissiveTriangles << " triangles, area " << r.emitterArea << ", power "

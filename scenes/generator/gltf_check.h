@@ -1,7 +1,8 @@
-// Re-reads a .glb written by the generator and validates it against the parts of glTF 2.0 that
-// pmcr relies on: container layout, buffer view / accessor bounds and alignment, POSITION
+// Re-reads a .glb, or a .gltf with its external buffers, written by the generator and validates
+// it against the parts of glTF 2.0 that pmcr relies on: container layout, buffer files, buffer
+// view / accessor bounds and alignment, POSITION
 // min/max, index ranges, unit normals that agree with the winding, declared extensions, one
-// perspective camera, at least one emitter, and extras.pmcr image size.
+// perspective camera, at least one emitter, and the extras.pmcr image sizes.
 #pragma once
 
 #include <cstddef>
@@ -32,6 +33,9 @@ struct CheckReport {
     double cameraYfov = 0.0;
     int width = 0;
     int height = 0;
+    int paperWidth = 0;  // 0: none given
+    int paperHeight = 0;
+    std::vector<std::string> externalFiles;  // buffer uris of a .gltf
     std::vector<std::string> extensionsUsed;
     // Primitives that are closed 2-manifolds with consistent winding, and their signed volume:
     // positive when the front faces point out, negative when they point in (an enclosure).
@@ -39,7 +43,7 @@ struct CheckReport {
 };
 
 // Throws pmcr::Error("<path>: <problem>") at the first violation.
-CheckReport checkGlb(const std::filesystem::path& path);
+CheckReport checkScene(const std::filesystem::path& path);
 
 // A short multi-line summary for the console.
 std::string formatReport(const std::filesystem::path& path, const CheckReport& report);

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 
 #include <glm/gtc/quaternion.hpp>
@@ -28,16 +29,24 @@ Json vec3Json(const glm::dvec3& v) {
     return Json::array({v.x, v.y, v.z});
 }
 
-// Accumulates the binary chunk and the accessors / buffer views that describe it.
+// Accumulates the binary buffers and the accessors / buffer views that describe them. Buffer 0
+// is the scene's own (the GLB BIN chunk, or <name>.bin); shared meshes get buffers of their own.
 class BufferBuilder {
 public:
+    BufferBuilder() : m_buffers(1) {}
+
+    int addBuffer() {
+        m_buffers.emplace_back();
+        return int(m_buffers.size()) - 1;
+    }
+
     // One tightly packed buffer view (byteStride omitted) and one accessor over all of it.
-    int addVec3(const std::vector<glm::vec3>& data, bool withBounds) {
-        Json accessor = {
-            {"bufferView", addView(data.data(), data.size() * sizeof(glm::vec3), kArrayBuffer)},
-            {"componentType", kFloat},
-            {"count", data.size()},
-            {"type", "VEC3"}};
+    int addVec3(int buffer, const std::vector<glm::vec3>& data, bool withBounds) {
+        Json accessor = {{"bufferView", addView(buffer, data.data(),
+                                                data.size() * sizeof(glm::vec3), kArrayBuffer)},
+                         {"componentType", kFloat},
+                         {"count", data.size()},
+                         {"type", "VEC3"}};
         if (withBounds) {
             glm::vec3 lo(std::numeric_limits<float>::max());
             glm::vec3 hi(-std::numeric_limits<float>::max());
@@ -53,33 +62,36 @@ public:
         return int(m_accessors.size()) - 1;
     }
 
-    int addIndices(const std::vector<uint32_t>& data) {
-        m_accessors.push_back({{"bufferView", addView(data.data(), data.size() * sizeof(uint32_t),
-                                                      kElementArrayBuffer)},
-                               {"componentType", kUnsignedInt},
-                               {"count", data.size()},
-                               {"type", "SCALAR"}});
+    int addIndices(int buffer, const std::vector<uint32_t>& data) {
+        m_accessors.push_back(
+            {{"bufferView",
+              addView(buffer, data.data(), data.size() * sizeof(uint32_t), kElementArrayBuffer)},
+             {"componentType", kUnsignedInt},
+             {"count", data.size()},
+             {"type", "SCALAR"}});
         return int(m_accessors.size()) - 1;
     }
 
-    const std::vector<uint8_t>& bytes() const { return m_bytes; }
+    const std::vector<uint8_t>& bytes(int buffer) const { return m_buffers[size_t(buffer)]; }
+    size_t bufferCount() const { return m_buffers.size(); }
     Json& accessors() { return m_accessors; }
     Json& bufferViews() { return m_views; }
 
 private:
-    int addView(const void* data, size_t size, int target) {
+    int addView(int buffer, const void* data, size_t size, int target) {
         // Every view starts on a 4-byte boundary (section 3.6.2.4: offsets are multiples of the
         // component size).
-        m_bytes.resize((m_bytes.size() + 3) & ~size_t(3), 0);
-        const size_t offset = m_bytes.size();
-        m_bytes.resize(offset + size);
-        std::memcpy(m_bytes.data() + offset, data, size);
+        std::vector<uint8_t>& bytes = m_buffers[size_t(buffer)];
+        bytes.resize((bytes.size() + 3) & ~size_t(3), 0);
+        const size_t offset = bytes.size();
+        bytes.resize(offset + size);
+        std::memcpy(bytes.data() + offset, data, size);
         m_views.push_back(
-            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
+            {{"buffer", buffer}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
         return int(m_views.size()) - 1;
     }
 
-    std::vector<uint8_t> m_bytes;
+    std::vector<std::vector<uint8_t>> m_buffers;
     Json m_accessors = Json::array();
     Json m_views = Json::array();
 };
@@ -129,14 +141,54 @@ Json cameraNode(const CameraDesc& c, int cameraIndex) {
     return node;
 }
 
-void appendU32(std::vector<uint8_t>& out, uint32_t v) {
+// Little-endian, as GLB stores its header words (section 4.4.2).
+void putU32(uint8_t* at, uint32_t v) {
     for (int i = 0; i < 4; ++i)
-        out.push_back(uint8_t(v >> (8 * i)));
+        at[i] = uint8_t(v >> (8 * i));
+}
+
+void writeFile(const std::filesystem::path& path, const void* data, size_t size) {
+    std::ofstream stream(path, std::ios::binary | std::ios::trunc);
+    if (!stream)
+        fail(path.string(), "cannot open for writing");
+    stream.write(static_cast<const char*>(data), std::streamsize(size));
+    if (!stream)
+        fail(path.string(), "write failed");
+}
+
+// GLB container: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with zeros,
+// both to 4-byte multiples (section 4.4).
+void writeGlbFile(const std::filesystem::path& path, const Json& root,
+                  const std::vector<uint8_t>& buffer) {
+    std::string jsonText = root.dump();
+    jsonText.resize((jsonText.size() + 3) & ~size_t(3), ' ');
+    std::vector<uint8_t> bin = buffer;
+    bin.resize((bin.size() + 3) & ~size_t(3), 0);
+    const size_t total = 12 + 8 + jsonText.size() + 8 + bin.size();
+    if (total > std::numeric_limits<uint32_t>::max())
+        fail(path.string(), "scene too large for a .glb");
+
+    std::vector<uint8_t> out(total);
+    putU32(&out[0], 0x46546C67u);  // "glTF"
+    putU32(&out[4], 2u);
+    putU32(&out[8], uint32_t(total));
+    putU32(&out[12], uint32_t(jsonText.size()));
+    putU32(&out[16], 0x4E4F534Au);  // "JSON"
+    std::memcpy(&out[20], jsonText.data(), jsonText.size());
+    const size_t binAt = 20 + jsonText.size();
+    putU32(&out[binAt], uint32_t(bin.size()));
+    putU32(&out[binAt + 4], 0x004E4942u);  // "BIN\0"
+    std::memcpy(&out[binAt + 8], bin.data(), bin.size());
+    writeFile(path, out.data(), out.size());
 }
 
 }  // namespace
 
-void writeGlb(const SceneDesc& scene, const std::filesystem::path& path) {
+std::filesystem::path writeScene(const SceneDesc& scene, const std::filesystem::path& dir) {
+    bool external = false;
+    for (const auto& object : scene.objects)
+        external = external || !object.sharedUri.empty();
+    const std::filesystem::path path = dir / (scene.name + (external ? ".gltf" : ".glb"));
     const std::string file = path.string();
     BufferBuilder buffer;
     std::set<std::string> extensionsUsed;
@@ -145,6 +197,13 @@ void writeGlb(const SceneDesc& scene, const std::filesystem::path& path) {
     for (const auto& m : scene.materials)
         materials.push_back(materialJson(m, extensionsUsed));
 
+    // A shared mesh's buffer and its primitive's attributes and indices, per file.
+    struct Shared {
+        int buffer;
+        Json attributes;
+        int indices;
+    };
+    std::map<std::string, Shared> shared;
     Json meshes = Json::array();
     Json nodes = Json::array();
     for (const auto& object : scene.objects) {
@@ -155,16 +214,30 @@ void writeGlb(const SceneDesc& scene, const std::filesystem::path& path) {
         if (object.material < 0 || object.material >= int(scene.materials.size())) {
             fail(file, "mesh '" + mesh.name + "' names a material that does not exist");
         }
-        Json attributes = {{"POSITION", buffer.addVec3(mesh.positions, true)}};
-        if (!mesh.normals.empty())
-            attributes["NORMAL"] = buffer.addVec3(mesh.normals, false);
-        Json primitive = {{"attributes", attributes},
-                          {"indices", buffer.addIndices(mesh.indices)},
+        auto addMesh = [&](int target) {
+            Json attributes = {{"POSITION", buffer.addVec3(target, mesh.positions, true)}};
+            if (!mesh.normals.empty())
+                attributes["NORMAL"] = buffer.addVec3(target, mesh.normals, false);
+            return Shared{target, attributes, buffer.addIndices(target, mesh.indices)};
+        };
+        Shared data;
+        if (object.sharedUri.empty()) {
+            data = addMesh(0);
+        } else {
+            auto found = shared.find(object.sharedUri);
+            if (found == shared.end())
+                found = shared.emplace(object.sharedUri, addMesh(buffer.addBuffer())).first;
+            data = found->second;
+        }
+        Json primitive = {{"attributes", data.attributes},
+                          {"indices", data.indices},
                           {"material", object.material}};
         meshes.push_back({{"name", mesh.name}, {"primitives", Json::array({primitive})}});
         nodes.push_back({{"name", mesh.name}, {"mesh", int(meshes.size()) - 1}});
     }
     nodes.push_back(cameraNode(scene.camera, 0));
+    if (buffer.bytes(0).empty())
+        fail(file, "the scene has no geometry of its own");
 
     Json sceneNodes = Json::array();
     for (size_t i = 0; i < nodes.size(); ++i)
@@ -189,37 +262,40 @@ void writeGlb(const SceneDesc& scene, const std::filesystem::path& path) {
           {"perspective", {{"yfov", scene.camera.yfov}, {"znear", scene.camera.znear}}}}});
     root["accessors"] = std::move(buffer.accessors());
     root["bufferViews"] = std::move(buffer.bufferViews());
-    root["buffers"] = Json::array({{{"byteLength", buffer.bytes().size()}}});
-    root["extras"] = {{"pmcr", {{"width", scene.width}, {"height", scene.height}}}};
+    Json pmcr = {{"width", scene.width}, {"height", scene.height}};
+    if (scene.paperWidth > 0 && scene.paperHeight > 0) {
+        pmcr["paper_width"] = scene.paperWidth;
+        pmcr["paper_height"] = scene.paperHeight;
+    }
 
-    // GLB container: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with zeros,
-    // both to 4-byte multiples (section 4.4).
-    std::string jsonText = root.dump();
-    jsonText.resize((jsonText.size() + 3) & ~size_t(3), ' ');
-    std::vector<uint8_t> bin = buffer.bytes();
-    bin.resize((bin.size() + 3) & ~size_t(3), 0);
-    const size_t total = 12 + 8 + jsonText.size() + 8 + bin.size();
-    if (total > std::numeric_limits<uint32_t>::max())
-        fail(file, "scene too large for a .glb");
+    if (!external) {
+        root["buffers"] = Json::array({{{"byteLength", buffer.bytes(0).size()}}});
+        root["extras"] = {{"pmcr", pmcr}};
+        writeGlbFile(path, root, buffer.bytes(0));
+        return path;
+    }
 
-    std::vector<uint8_t> out;
-    out.reserve(total);
-    appendU32(out, 0x46546C67u);  // "glTF"
-    appendU32(out, 2u);
-    appendU32(out, uint32_t(total));
-    appendU32(out, uint32_t(jsonText.size()));
-    appendU32(out, 0x4E4F534Au);  // "JSON"
-    out.insert(out.end(), jsonText.begin(), jsonText.end());
-    appendU32(out, uint32_t(bin.size()));
-    appendU32(out, 0x004E4942u);  // "BIN\0"
-    out.insert(out.end(), bin.begin(), bin.end());
-
-    std::ofstream stream(path, std::ios::binary | std::ios::trunc);
-    if (!stream)
-        fail(file, "cannot open for writing");
-    stream.write(reinterpret_cast<const char*>(out.data()), std::streamsize(out.size()));
-    if (!stream)
-        fail(file, "write failed");
+    // .gltf: buffer 0 in <name>.bin beside it, each shared mesh in its own file (uris are
+    // relative to the .gltf, section 3.6.1.1).
+    std::vector<std::string> uris(buffer.bufferCount());
+    uris[0] = scene.name + ".bin";
+    for (const auto& [uri, data] : shared)
+        uris[size_t(data.buffer)] = uri;
+    Json buffers = Json::array();
+    for (size_t b = 0; b < uris.size(); ++b) {
+        buffers.push_back({{"uri", uris[b]}, {"byteLength", buffer.bytes(int(b)).size()}});
+        const std::filesystem::path target = dir / uris[b];
+        std::error_code ec;
+        std::filesystem::create_directories(target.parent_path(), ec);
+        if (ec)
+            fail(target.parent_path().string(), "cannot create directory: " + ec.message());
+        writeFile(target, buffer.bytes(int(b)).data(), buffer.bytes(int(b)).size());
+    }
+    root["buffers"] = std::move(buffers);
+    root["extras"] = {{"pmcr", pmcr}};
+    const std::string text = root.dump(1) + "\n";
+    writeFile(path, text.data(), text.size());
+    return path;
 }
 
 }  // namespace pmcr::scenegen

@@ -1,8 +1,10 @@
-// Writes a scene as a single-file glTF 2.0 binary (.glb): world-space triangle meshes (float
-// positions, optional float normals, u32 indices), metallic-roughness materials with the
-// extensions pmcr reads, one perspective camera, and the default image size in
-// extras.pmcr.{width,height}. Written directly with nlohmann::json (glTF 2.0 specification,
-// sections 3.6-3.9 and 4.4 for the binary container).
+// Writes a scene as glTF 2.0: world-space triangle meshes (float positions, optional float
+// normals, u32 indices), metallic-roughness materials with the extensions pmcr reads, one
+// perspective camera, the default image size in extras.pmcr.{width,height} and the papers' size
+// in extras.pmcr.{paper_width,paper_height}. A scene is one binary file (.glb, section 4.4) unless
+// it uses a shared mesh: then it is a .gltf with its own .bin beside it and the shared mesh in a
+// file of its own that every scene using it references, so large third-party data is stored
+// once. Written directly with nlohmann::json (glTF 2.0 specification, sections 3.6-3.9).
 #pragma once
 
 #include <filesystem>
@@ -40,19 +42,27 @@ struct CameraDesc {
 struct ObjectDesc {
     Mesh mesh;
     int material = 0;
+    // Non-empty: the mesh is written to this file (a path relative to the scene's folder, e.g.
+    // "meshes/stanford-dragon.bin": positions, then normals if any, then indices) and
+    // referenced as an external buffer; the scene becomes a .gltf.
+    std::string sharedUri;
 };
 
 struct SceneDesc {
     std::string name;
     std::string copyright;  // asset.copyright: source and licence of third-party data
-    int width = 256;
+    int width = 256;        // default image size
     int height = 256;
+    int paperWidth = 0;  // the size the papers render this scene at; 0: not written
+    int paperHeight = 0;
     std::vector<MaterialDesc> materials;
     std::vector<ObjectDesc> objects;
     CameraDesc camera;
 };
 
-// Writes `scene` to `path` (.glb); throws pmcr::Error naming the file on failure.
-void writeGlb(const SceneDesc& scene, const std::filesystem::path& path);
+// Writes `scene` into `dir` as <name>.glb, or as <name>.gltf + <name>.bin plus its shared mesh
+// files when it has any; returns the scene file's path. Throws pmcr::Error naming the file on
+// failure.
+std::filesystem::path writeScene(const SceneDesc& scene, const std::filesystem::path& dir);
 
 }  // namespace pmcr::scenegen

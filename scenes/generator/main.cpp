@@ -1,7 +1,9 @@
-// pmcr-scenegen: writes pmcr's procedural scenes as .glb files and validates them.
-//   pmcr-scenegen <output-dir> [scene-name...]   write the named scenes (all if none), then check
-//   pmcr-scenegen --check <file.glb>...           check existing files
-//   pmcr-scenegen --list                          list the scenes
+// pmcr-scenegen: writes pmcr's scenes as glTF files and validates them.
+//   pmcr-scenegen [--assets DIR] <output-dir> [scene-name...]
+//       write the named scenes (all if none), then check them; scenes built from third-party
+//       files read them from DIR and are skipped when all scenes are written without it
+//   pmcr-scenegen --check <file.glb|file.gltf>...   check existing files
+//   pmcr-scenegen --list                             list the scenes
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -16,12 +18,12 @@ namespace {
 
 void usage() {
     std::fprintf(stderr,
-                 "usage: pmcr-scenegen <output-dir> [scene-name...]\n"
-                 "       pmcr-scenegen --check <file.glb>...\n"
+                 "usage: pmcr-scenegen [--assets DIR] <output-dir> [scene-name...]\n"
+                 "       pmcr-scenegen --check <file.glb|file.gltf>...\n"
                  "       pmcr-scenegen --list\n");
 }
 
-int run(const std::vector<std::string>& args) {
+int run(std::vector<std::string> args) {
     using namespace pmcr::scenegen;
     if (args.empty()) {
         usage();
@@ -29,7 +31,8 @@ int run(const std::vector<std::string>& args) {
     }
     if (args[0] == "--list") {
         for (const auto& entry : sceneCatalog()) {
-            std::printf("%-18s %s\n", entry.name.c_str(), entry.description.c_str());
+            std::printf("%-20s %s%s\n", entry.name.c_str(), entry.description.c_str(),
+                        entry.asset.empty() ? "" : (" [needs " + entry.asset + "]").c_str());
         }
         return 0;
     }
@@ -39,9 +42,18 @@ int run(const std::vector<std::string>& args) {
             return 2;
         }
         for (size_t i = 1; i < args.size(); ++i) {
-            std::printf("%s\n", formatReport(args[i], checkGlb(args[i])).c_str());
+            std::printf("%s\n", formatReport(args[i], checkScene(args[i])).c_str());
         }
         return 0;
+    }
+    SceneContext context;
+    if (args[0] == "--assets") {
+        if (args.size() < 3) {
+            usage();
+            return 2;
+        }
+        context.assets = args[1];
+        args.erase(args.begin(), args.begin() + 2);
     }
     if (args[0].starts_with("-")) {
         usage();
@@ -58,20 +70,27 @@ int run(const std::vector<std::string>& args) {
         }
         if (!found)
             pmcr::fail("", "unknown scene '" + args[i] + "' (see --list)");
+        if (!found->asset.empty() && context.assets.empty())
+            pmcr::fail("", "scene '" + args[i] + "' needs --assets (" + found->asset + ")");
         selected.push_back(found);
     }
     if (selected.empty()) {
-        for (const auto& entry : sceneCatalog())
+        for (const auto& entry : sceneCatalog()) {
+            if (!entry.asset.empty() && context.assets.empty()) {
+                std::fprintf(stderr, "pmcr-scenegen: skipping %s: needs --assets (%s)\n",
+                             entry.name.c_str(), entry.asset.c_str());
+                continue;
+            }
             selected.push_back(&entry);
+        }
     }
     std::error_code ec;
     std::filesystem::create_directories(outDir, ec);
     if (ec)
         pmcr::fail(outDir.string(), "cannot create directory: " + ec.message());
     for (const SceneEntry* entry : selected) {
-        const auto path = outDir / (entry->name + ".glb");
-        writeGlb(entry->build(), path);
-        std::printf("%s\n", formatReport(path, checkGlb(path)).c_str());
+        const auto path = writeScene(entry->build(context), outDir);
+        std::printf("%s\n", formatReport(path, checkScene(path)).c_str());
     }
     return 0;
 }

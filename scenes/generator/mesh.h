@@ -39,4 +39,37 @@ void orientTowards(Mesh& mesh, const glm::dvec3& point, bool away);
 // Flip triangles whose front face does not point along `direction`.
 void orientAlong(Mesh& mesh, const glm::dvec3& direction);
 
+// Flip triangles whose front face points against the sum of their vertex normals.
+void orientByNormals(Mesh& mesh);
+
+// Appends `other`'s vertices and triangles; both must have normals or neither.
+void append(Mesh& mesh, const Mesh& other);
+
+// A torus around the vertical line through `center`: the tube's centre circle has radius
+// `majorRadius`, the tube radius `minorRadius`. Closed, smooth (exact normals), front faces out.
+Mesh torus(std::string name, const glm::dvec3& center, double majorRadius, double minorRadius,
+           int majorSegments, int minorSegments);
+
+// A solid dome: the upper half of the spherical shell between `innerRadius` and `outerRadius`
+// around `center`, closed by the flat ring between them in the plane y = center.y. Closed,
+// smooth (radial normals, out of the solid: away from the centre on the outer sphere, towards it
+// on the inner one; -y on the ring), front faces out of the solid.
+Mesh domeShell(std::string name, const glm::dvec3& center, double outerRadius, double innerRadius,
+               int segments, int rings);
+
+// The side of a vertical cylinder from `base` up by `height`: smooth, front faces out.
+Mesh cylinderSide(std::string name, const glm::dvec3& base, double radius, double height,
+                  int segments);
+
+// A flat regular polygon of `segments` sides in the plane y = center.y, front face up or down.
+Mesh disk(std::string name, const glm::dvec3& center, double radius, int segments, bool up);
+
+// A quad centred at `center` with edge vectors `u` and `v` (half of each on either side), front
+// face along cross(u, v).
+Mesh rectangle(std::string name, const glm::dvec3& center, const glm::dvec3& u,
+               const glm::dvec3& v);
+
+// A flat-shaded tube of `sides` sides along a polyline, open at both ends.
+Mesh tube(std::string name, const std::vector<glm::dvec3>& path, double radius, int sides);
+
 }  // namespace pmcr::scenegen

@@ -185,6 +185,34 @@ float bsdfPdf(Bsdf b, vec3 wo, vec3 wi) {
     return pdf;
 }
 
+// The delta lobes. For a specular `lobe` (LOBE_COAT, LOBE_CONDUCTOR or LOBE_DIELECTRIC, the
+// latter reflecting or transmitting), the direction it scatters wo into and its weight
+// f * |cos(wi)| (the lobe's Fresnel factor times its mixture weight; transmission tinted by
+// baseColor and divided by eta^2). False when the material has no such delta lobe or the
+// direction does not exist (total internal reflection). Path mutations use this to follow
+// specular chains; bsdfSample divides the weight by the lobe's probability.
+bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out vec3 weight) {
+    wi = vec3(-wo.x, -wo.y, wo.z);
+    weight = vec3(0.0);
+    if (!bsdfSmooth(b) || wo.z <= 0.0) return false;
+    if (lobe == LOBE_COAT && !transmit && b.wBase > 0.0 && b.coated) {
+        weight = vec3(b.wBase * fresnelDielectric(wo.z, b.ior));
+    } else if (lobe == LOBE_CONDUCTOR && !transmit && b.wConductor > 0.0) {
+        weight = b.wConductor * fresnelSchlick(b.baseColor, wo.z);
+    } else if (lobe == LOBE_DIELECTRIC && b.wDielectric > 0.0) {
+        float F = fresnelDielectric(wo.z, b.eta);
+        if (!transmit) {
+            weight = vec3(b.wDielectric * F);
+        } else {
+            if (!refractDirection(wo, vec3(0.0, 0.0, 1.0), b.eta, wi)) return false;
+            weight = b.wDielectric * b.baseColor * ((1.0 - F) / sqr(b.eta));
+        }
+    } else {
+        return false;
+    }
+    return maxComponent(weight) > 0.0;
+}
+
 // Draws wi: uLobe picks the lobe, u the direction. Returns false when no direction results.
 bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
     s.wi = vec3(0.0, 0.0, 1.0);
@@ -202,9 +230,10 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
     } else if (uLobe < p.x + p.y) {
         s.lobe = LOBE_COAT;
         if (isSmooth) {
-            // Mirror reflection off the smooth coat: F / |cos| with probability pCoat.
-            s.wi = vec3(-wo.x, -wo.y, wo.z);
-            s.f = vec3(b.wBase * fresnelDielectric(wo.z, b.ior) / wo.z);
+            // Mirror reflection off the smooth coat, chosen with probability pCoat.
+            vec3 weight;
+            if (!bsdfSpecular(b, wo, LOBE_COAT, false, s.wi, weight)) return false;
+            s.f = weight / wo.z;
             s.pdf = p.y;
             s.delta = true;
             return true;
@@ -214,8 +243,9 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
     } else if (uLobe < p.x + p.y + p.z) {
         s.lobe = LOBE_CONDUCTOR;
         if (isSmooth) {
-            s.wi = vec3(-wo.x, -wo.y, wo.z);
-            s.f = b.wConductor * fresnelSchlick(b.baseColor, wo.z) / wo.z;
+            vec3 weight;
+            if (!bsdfSpecular(b, wo, LOBE_CONDUCTOR, false, s.wi, weight)) return false;
+            s.f = weight / wo.z;
             s.pdf = p.z;
             s.delta = true;
             return true;
@@ -227,18 +257,13 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
         // Re-use the lobe sample's remainder to choose reflection or transmission.
         float uChoice = clamp((uLobe - (p.x + p.y + p.z)) / p.w, 0.0, ONE_MINUS_EPSILON);
         if (isSmooth) {
+            // Reflect with probability F, else transmit (total internal reflection: F = 1).
             float F = fresnelDielectric(wo.z, b.eta);
-            if (uChoice < F) {
-                s.wi = vec3(-wo.x, -wo.y, wo.z);
-                s.f = vec3(b.wDielectric * F / wo.z);
-                s.pdf = p.w * F;
-            } else {
-                vec3 wt;
-                if (!refractDirection(wo, vec3(0.0, 0.0, 1.0), b.eta, wt)) return false;
-                s.wi = wt;
-                s.f = b.wDielectric * b.baseColor * ((1.0 - F) / (abs(wt.z) * sqr(b.eta)));
-                s.pdf = p.w * (1.0 - F);
-            }
+            bool transmit = uChoice >= F;
+            vec3 weight;
+            if (!bsdfSpecular(b, wo, LOBE_DIELECTRIC, transmit, s.wi, weight)) return false;
+            s.f = weight / abs(s.wi.z);
+            s.pdf = p.w * (transmit ? 1.0 - F : F);
             s.delta = true;
             return s.pdf > 0.0;
         }

@@ -23,6 +23,7 @@ float emitterAreaPdf(uint tri) { return emitterSelectPmf(tri) / triangleArea(tri
 
 struct LightSample {
     SurfacePoint point;
+    vec2 barycentrics; // (b1, b2) of the point on its triangle
     float pdfArea;     // selection pmf / triangle area
 };
 
@@ -34,7 +35,8 @@ LightSample sampleLight(float uSelect, vec2 uPoint) {
     Emitter e = emitters[slot];
     uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle : emitters[e.alias].triangle;
     LightSample ls;
-    ls.point = surfaceAt(tri, sampleUniformTriangle(uPoint));
+    ls.barycentrics = sampleUniformTriangle(uPoint);
+    ls.point = surfaceAt(tri, ls.barycentrics);
     ls.pdfArea = emitterAreaPdf(tri);
     return ls;
 }

@@ -55,15 +55,15 @@ vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inou
         pv.flags = sh.front ? 0u : VERTEX_BACKFACE;
         pv.shadingNormal = s.shadingNormal;
         pv.material = s.material;
-        pv.uv = s.uv;
+        pv.barycentrics = vec2(hit.b1, hit.b2);
         pv.pdfForward = 0.0;
         pv.lobe = LOBE_NONE;
         pv.lightPosition = vec3(0.0);
         pv.lightTriangle = 0u;
         pv.explicitContribution = vec3(0.0);
-        pv.pad0 = 0.0;
+        pv.lightB1 = 0.0;
         pv.implicitContribution = vec3(0.0);
-        pv.pad1 = 0.0;
+        pv.lightB2 = 0.0;
 #endif
 
         // Emission at the hit, MIS-weighted against light sampling unless reached by a delta.
@@ -104,6 +104,8 @@ vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inou
                     pv.flags |= VERTEX_HAS_LIGHT_SAMPLE;
                     pv.lightPosition = ls.point.position;
                     pv.lightTriangle = ls.point.triangle;
+                    pv.lightB1 = ls.barycentrics.x;
+                    pv.lightB2 = ls.barycentrics.y;
                     pv.explicitContribution = contribution;
 #endif
                 }
@@ -121,6 +123,7 @@ vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inou
             pv.lobe = bs.lobe;
             pv.pdfForward = bs.delta ? 0.0 : bs.pdf;
             if (bs.delta) pv.flags |= VERTEX_SPECULAR;
+            if (bs.wi.z < 0.0) pv.flags |= VERTEX_TRANSMISSION;
         }
         pathVertices[firstVertex + vertexCount] = pv;
         vertexCount += 1u;

@@ -45,8 +45,9 @@ vec3 sampleUniformCone(vec2 u, float cosThetaMax) {
 }
 float uniformConePdf(float cosThetaMax) { return 1.0 / (TWO_PI * (1.0 - cosThetaMax)); }
 
-// Uniform barycentrics on a triangle (b0, b1; b2 = 1 - b0 - b1), area-preserving
-// (Heitz 2019, "A Low-Distortion Map Between Triangle and Square").
+// Two barycentrics (b1, b2; b0 = 1 - b1 - b2) of a point uniform on a triangle, area-preserving
+// (Heitz 2019, "A Low-Distortion Map Between Triangle and Square"). Any two of the three
+// barycentrics of a uniform point are identically distributed, so the labelling is free.
 vec2 sampleUniformTriangle(vec2 u) {
     vec2 b;
     if (u.x < u.y) {

@@ -18,9 +18,12 @@ using uvec3 = glm::uvec3;
 using uvec4 = glm::uvec4;
 using ivec2 = glm::ivec2;
 using uint = uint32_t;
+using uint64_t = std::uint64_t;
 #define PMCR_CHECK_SIZE(T, n) static_assert(sizeof(T) == (n), #T " must match its GLSL scalar layout")
 #define PMCR_CONST static constexpr
 #else
+// 64-bit integers (fixed-point splat film); the device feature shaderInt64 is required.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define PMCR_CHECK_SIZE(T, n)
 #define PMCR_CONST const
 #endif
@@ -29,6 +32,7 @@ using uint = uint32_t;
 #include "shared/scene_types.h"
 #include "shared/render_types.h"
 #include "shared/path_types.h"
+#include "shared/chain_types.h"
 
 #ifdef __cplusplus
 }  // namespace pmcr::gpu

@@ -16,6 +16,7 @@ PMCR_CONST uint VERTEX_SPECULAR = 1u;          // the lobe sampled here is a del
 PMCR_CONST uint VERTEX_EMITTER = 2u;           // the surface emits towards the previous vertex
 PMCR_CONST uint VERTEX_HAS_LIGHT_SAMPLE = 4u;  // lightPosition/explicitContribution are valid
 PMCR_CONST uint VERTEX_BACKFACE = 8u;          // the previous vertex sees the back of the surface
+PMCR_CONST uint VERTEX_TRANSMISSION = 16u;     // the direction sampled here crosses the surface
 
 struct PathVertex {
     vec3 position;
@@ -24,15 +25,15 @@ struct PathVertex {
     uint flags;                  // VERTEX_*
     vec3 shadingNormal;          // unit, on the same side as `normal`
     uint material;
-    vec2 uv;
+    vec2 barycentrics;           // (b1, b2) on `triangle`
     float pdfForward;            // solid-angle pdf of the direction sampled here (0 for delta)
     uint lobe;                   // which lobe was sampled here (see shaders/common/bsdf.glsl)
     vec3 lightPosition;          // explicit connection from this vertex
     uint lightTriangle;
     vec3 explicitContribution;   // MIS-weighted contribution of x0..xk y_k
-    float pad0;
+    float lightB1;               // barycentrics of the light point on lightTriangle
     vec3 implicitContribution;   // MIS-weighted contribution of x0..xk when xk is an emitter
-    float pad1;
+    float lightB2;
 };
 PMCR_CHECK_SIZE(PathVertex, 112);
 

@@ -1,16 +1,23 @@
-// Independent validation of the committed procedural scenes (scenes/*.glb, written by
-// pmcr-scenegen): the GLB container and the glTF 2.0 JSON are parsed here from scratch, without
-// the generator's code or tinygltf, and checked for what pmcr's loader relies on.
+// Independent validation of the committed scenes (scenes/*.glb and scenes/*.gltf with their
+// buffer files, written by pmcr-scenegen): the GLB container and the glTF 2.0 JSON are parsed
+// here from scratch, without the generator's code or tinygltf, and checked for what pmcr's loader
+// relies on and for what each scene is meant to show.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
+#include <map>
 #include <numbers>
 #include <set>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -22,9 +29,11 @@ namespace {
 
 using Json = nlohmann::json;
 
-struct Glb {
+struct SceneData {
     Json json;
-    std::vector<uint8_t> bin;
+    std::vector<std::vector<uint8_t>> buffers;  // contents of json["buffers"][i]
+    bool glb = true;
+    size_t glbPadding = 0;  // BIN chunk bytes beyond buffer 0's byteLength
 };
 
 uint32_t u32(const std::vector<uint8_t>& d, size_t at) {
@@ -33,14 +42,15 @@ uint32_t u32(const std::vector<uint8_t>& d, size_t at) {
     return v;
 }
 
-// GLB layout (glTF 2.0 section 4.4): 12-byte header, JSON chunk, BIN chunk.
-void loadGlb(const std::string& name, Glb& out) {
-    const auto path = pmcr::test::sourcePath("scenes/" + name + ".glb");
+std::vector<uint8_t> readFile(const std::filesystem::path& path) {
     std::ifstream stream(path, std::ios::binary);
-    ASSERT_TRUE(stream) << path;
-    const std::vector<uint8_t> d{std::istreambuf_iterator<char>(stream),
-                                 std::istreambuf_iterator<char>()};
-    ASSERT_GE(d.size(), 28u);
+    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+}
+
+// GLB layout (glTF 2.0 section 4.4): 12-byte header, JSON chunk, BIN chunk.
+void loadGlb(const std::filesystem::path& path, SceneData& out) {
+    const std::vector<uint8_t> d = readFile(path);
+    ASSERT_GE(d.size(), 28u) << path;
     ASSERT_EQ(u32(d, 0), 0x46546C67u) << "magic";
     ASSERT_EQ(u32(d, 4), 2u) << "container version";
     ASSERT_EQ(u32(d, 8), d.size()) << "header length";
@@ -54,7 +64,42 @@ void loadGlb(const std::string& name, Glb& out) {
     const size_t binLength = u32(d, binAt);
     ASSERT_EQ(u32(d, binAt + 4), 0x004E4942u) << "BIN chunk type";
     ASSERT_EQ(binAt + 8 + binLength, d.size());
-    out.bin.assign(d.begin() + long(binAt) + 8, d.end());
+    ASSERT_EQ(out.json["buffers"].size(), 1u);
+    ASSERT_FALSE(out.json["buffers"][0].contains("uri"));
+    const size_t length = out.json["buffers"][0]["byteLength"].get<size_t>();
+    ASSERT_LE(length, binLength);
+    out.glbPadding = binLength - length;
+    out.buffers.emplace_back(d.begin() + long(binAt) + 8, d.begin() + long(binAt + 8 + length));
+}
+
+// A .gltf and its buffer files, named by uris relative to it (section 3.6.1.1).
+void loadGltf(const std::filesystem::path& path, SceneData& out) {
+    const std::vector<uint8_t> d = readFile(path);
+    out.glb = false;
+    out.json = Json::parse(d.begin(), d.end(), nullptr, false);
+    ASSERT_FALSE(out.json.is_discarded()) << path << " does not parse";
+    for (const auto& buffer : out.json["buffers"]) {
+        ASSERT_TRUE(buffer.contains("uri"));
+        const std::string uri = buffer["uri"].get<std::string>();
+        ASSERT_FALSE(uri.starts_with("data:") || uri.starts_with("/") ||
+                     uri.find("..") != std::string::npos)
+            << uri;
+        out.buffers.push_back(readFile(path.parent_path() / uri));
+        ASSERT_EQ(out.buffers.back().size(), buffer["byteLength"].get<size_t>()) << uri;
+    }
+}
+
+// scenes/<name>.glb, else scenes/<name>.gltf.
+void loadScene(const std::string& name, SceneData& out) {
+    const auto glb = pmcr::test::sourcePath("scenes/" + name + ".glb");
+    const auto gltf = pmcr::test::sourcePath("scenes/" + name + ".gltf");
+    if (std::filesystem::exists(glb)) {
+        ASSERT_FALSE(std::filesystem::exists(gltf)) << name << " exists as .glb and .gltf";
+        loadGlb(glb, out);
+    } else {
+        ASSERT_TRUE(std::filesystem::exists(gltf)) << "no scenes/" << name << ".glb or .gltf";
+        loadGltf(gltf, out);
+    }
 }
 
 glm::dvec3 emission(const Json& material) {
@@ -70,40 +115,52 @@ glm::dvec3 emission(const Json& material) {
     return e;
 }
 
+const std::vector<uint8_t>& viewBuffer(const SceneData& g, const Json& view) {
+    return g.buffers.at(view["buffer"].get<size_t>());
+}
+
 // Reads float VEC3 element i of an accessor whose bounds were validated.
-glm::dvec3 readVec3(const Glb& g, const Json& accessor, size_t i) {
+glm::dvec3 readVec3(const SceneData& g, const Json& accessor, size_t i) {
     const Json& view = g.json["bufferViews"][accessor["bufferView"].get<size_t>()];
     const size_t at = view.value("byteOffset", size_t(0)) +
                       accessor.value("byteOffset", size_t(0)) +
                       i * view.value("byteStride", size_t(12));
     float v[3];
-    std::memcpy(v, g.bin.data() + at, sizeof(v));
+    std::memcpy(v, viewBuffer(g, view).data() + at, sizeof(v));
     return {v[0], v[1], v[2]};
 }
 
-uint32_t readIndex(const Glb& g, const Json& accessor, size_t i) {
+uint32_t readIndex(const SceneData& g, const Json& accessor, size_t i) {
     const Json& view = g.json["bufferViews"][accessor["bufferView"].get<size_t>()];
     const size_t at =
         view.value("byteOffset", size_t(0)) + accessor.value("byteOffset", size_t(0)) + 4 * i;
     uint32_t v;
-    std::memcpy(&v, g.bin.data() + at, 4);
+    std::memcpy(&v, viewBuffer(g, view).data() + at, 4);
     return v;
 }
 
-const std::vector<std::string> kScenes = {"cornell-spheres", "cornell-glass", "cornell-specular",
-                                          "cornell-classic", "furnace",       "furnace-sphere"};
+const std::vector<std::string> kScenes = {
+    "cornell-spheres",     "cornell-glass", "cornell-specular",
+    "cornell-classic",     "furnace",       "furnace-sphere",
+    "checkers-two-lights", "plant-shadows", "dragon-direct",
+    "dragon-caustic",      "room",          "veach-mis",
+    "glass-caustic-torus"};
 
 class SceneFile : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SceneFile, IsValidGltfForPmcr) {
-    Glb g;
-    ASSERT_NO_FATAL_FAILURE(loadGlb(GetParam(), g));
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene(GetParam(), g));
     const Json& j = g.json;
     EXPECT_EQ(j["asset"]["version"], "2.0");
 
-    // Default image size.
-    EXPECT_GT(j["extras"]["pmcr"]["width"].get<int>(), 0);
-    EXPECT_GT(j["extras"]["pmcr"]["height"].get<int>(), 0);
+    // Default image size, small enough for a benchmark run on lavapipe (at most 256 x 256
+    // pixels' worth).
+    const int width = j["extras"]["pmcr"]["width"].get<int>();
+    const int height = j["extras"]["pmcr"]["height"].get<int>();
+    EXPECT_GT(width, 0);
+    EXPECT_GT(height, 0);
+    EXPECT_LE(width * height, 256 * 256);
 
     // A perspective camera held by a node.
     ASSERT_TRUE(j.contains("cameras") && !j["cameras"].empty());
@@ -130,15 +187,13 @@ TEST_P(SceneFile, IsValidGltfForPmcr) {
     }
     EXPECT_GE(emissive, 1);
 
-    // Buffer views inside the one GLB buffer, 4-byte aligned; the BIN chunk pads by < 4 bytes.
-    ASSERT_EQ(j["buffers"].size(), 1u);
-    const size_t bufferLength = j["buffers"][0]["byteLength"].get<size_t>();
-    EXPECT_LE(bufferLength, g.bin.size());
-    EXPECT_LT(g.bin.size() - bufferLength, 4u);
+    // Buffer views inside their buffers, 4-byte aligned; a BIN chunk pads by < 4 bytes.
+    EXPECT_LT(g.glbPadding, 4u);
     for (const auto& v : j["bufferViews"]) {
         const size_t offset = v.value("byteOffset", size_t(0));
         EXPECT_EQ(offset % 4, 0u);
-        EXPECT_LE(offset + v["byteLength"].get<size_t>(), bufferLength);
+        ASSERT_LT(v["buffer"].get<size_t>(), g.buffers.size());
+        EXPECT_LE(offset + v["byteLength"].get<size_t>(), viewBuffer(g, v).size());
     }
     // Accessors inside their buffer views.
     for (const auto& a : j["accessors"]) {
@@ -201,7 +256,7 @@ struct Facing {
     size_t triangles = 0;
 };
 
-Facing facing(const Glb& g, const std::string& meshName, const glm::dvec3& point) {
+Facing facing(const SceneData& g, const std::string& meshName, const glm::dvec3& point) {
     Facing f;
     for (const auto& mesh : g.json["meshes"]) {
         if (mesh.value("name", "") != meshName)
@@ -226,7 +281,7 @@ Facing facing(const Glb& g, const std::string& meshName, const glm::dvec3& point
     return f;
 }
 
-const Json* materialNamed(const Glb& g, const std::string& name) {
+const Json* materialNamed(const SceneData& g, const std::string& name) {
     for (const auto& m : g.json["materials"]) {
         if (m.value("name", "") == name)
             return &m;
@@ -240,8 +295,8 @@ TEST(SceneFiles, CornellBoxesMatchBitterli) {
     for (const std::string name :
          {"cornell-spheres", "cornell-glass", "cornell-specular", "cornell-classic"}) {
         SCOPED_TRACE(name);
-        Glb g;
-        ASSERT_NO_FATAL_FAILURE(loadGlb(name, g));
+        SceneData g;
+        ASSERT_NO_FATAL_FAILURE(loadScene(name, g));
         const Json* light = materialNamed(g, "Light");
         ASSERT_NE(light, nullptr);
         const glm::dvec3 le = emission(*light);
@@ -275,8 +330,8 @@ TEST(SceneFiles, CornellBoxesMatchBitterli) {
 TEST(SceneFiles, FurnacesHaveTheAnalyticSetup) {
     for (const std::string name : {"furnace", "furnace-sphere"}) {
         SCOPED_TRACE(name);
-        Glb g;
-        ASSERT_NO_FATAL_FAILURE(loadGlb(name, g));
+        SceneData g;
+        ASSERT_NO_FATAL_FAILURE(loadScene(name, g));
         for (const auto& m : g.json["materials"]) {
             const Json& pbr = m["pbrMetallicRoughness"];
             EXPECT_EQ(pbr["baseColorFactor"], Json::array({0.5, 0.5, 0.5, 1.0}));
@@ -290,12 +345,254 @@ TEST(SceneFiles, FurnacesHaveTheAnalyticSetup) {
         EXPECT_EQ(enclosure.awayFromPoint, 0u);
         EXPECT_GT(enclosure.towardsPoint, 0.0);
     }
-    Glb g;
-    ASSERT_NO_FATAL_FAILURE(loadGlb("furnace-sphere", g));
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("furnace-sphere", g));
     // The inner sphere faces outwards, towards the enclosure and the camera.
     const Facing inner = facing(g, "InnerSphere", glm::dvec3(0.0));
     EXPECT_GT(inner.triangles, 0u);
     EXPECT_EQ(inner.awayFromPoint, inner.triangles);
+}
+
+// The triangles of every primitive of the mesh named `name` (world space: the generator writes
+// mesh nodes without transforms).
+struct Triangles {
+    std::vector<glm::dvec3> positions;  // three per triangle
+    std::set<size_t> materials;
+    std::set<size_t> buffers;  // buffers holding the POSITION data
+};
+
+Triangles trianglesOf(const SceneData& g, const std::string& name) {
+    Triangles out;
+    for (const auto& mesh : g.json["meshes"]) {
+        if (mesh.value("name", "") != name)
+            continue;
+        for (const auto& p : mesh["primitives"]) {
+            const Json& pos = g.json["accessors"][p["attributes"]["POSITION"].get<size_t>()];
+            const Json& idx = g.json["accessors"][p["indices"].get<size_t>()];
+            out.materials.insert(p["material"].get<size_t>());
+            out.buffers.insert(
+                g.json["bufferViews"][pos["bufferView"].get<size_t>()]["buffer"].get<size_t>());
+            for (size_t i = 0; i < idx["count"].get<size_t>(); ++i)
+                out.positions.push_back(readVec3(g, pos, readIndex(g, idx, i)));
+        }
+    }
+    return out;
+}
+
+glm::dvec3 crossOf(const Triangles& t, size_t i) {
+    return glm::cross(t.positions[3 * i + 1] - t.positions[3 * i],
+                      t.positions[3 * i + 2] - t.positions[3 * i]);
+}
+
+double areaOf(const Triangles& t) {
+    double area = 0.0;
+    for (size_t i = 0; i < t.positions.size() / 3; ++i)
+        area += 0.5 * glm::length(crossOf(t, i));
+    return area;
+}
+
+// Signed volume (divergence theorem: positive when front faces point out) of a closed mesh, or
+// NaN when some directed edge, with vertices welded by position, lacks exactly one opposite.
+double closedVolume(const Triangles& t) {
+    using Key = std::pair<std::tuple<double, double, double>, std::tuple<double, double, double>>;
+    std::map<Key, int> edges;
+    double volume = 0.0;
+    auto key = [](const glm::dvec3& v) { return std::tuple{v.x, v.y, v.z}; };
+    for (size_t i = 0; i < t.positions.size() / 3; ++i) {
+        const glm::dvec3* p = &t.positions[3 * i];
+        volume += glm::dot(p[0], glm::cross(p[1], p[2])) / 6.0;
+        for (int k = 0; k < 3; ++k)
+            ++edges[{key(p[k]), key(p[(k + 1) % 3])}];
+    }
+    for (const auto& [edge, count] : edges) {
+        const auto opposite = edges.find({edge.second, edge.first});
+        if (count != 1 || opposite == edges.end() || opposite->second != 1)
+            return std::numeric_limits<double>::quiet_NaN();
+    }
+    return volume;
+}
+
+double luminance(const glm::dvec3& rgb) {
+    return 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+}
+
+// Emitted power of a one-sided Lambertian emitter mesh, divided by pi: area * luminance(Le).
+double powerOverPi(const SceneData& g, const std::string& name) {
+    const Triangles t = trianglesOf(g, name);
+    EXPECT_EQ(t.materials.size(), 1u) << name;
+    return areaOf(t) * luminance(emission(g.json["materials"][*t.materials.begin()]));
+}
+
+// The papers' image sizes in extras.pmcr.paper_{width,height} (read by --paper-size).
+TEST(SceneFiles, PaperSizesAreThePapers) {
+    const std::map<std::string, std::pair<int, int>> expected = {
+        {"cornell-spheres", {640, 480}},
+        {"cornell-glass", {640, 480}},
+        {"cornell-specular", {640, 480}},
+        {"cornell-classic", {640, 480}},
+        {"checkers-two-lights", {500, 500}},
+        {"plant-shadows", {720, 405}},
+        {"dragon-direct", {512, 256}},
+        {"dragon-caustic", {900, 900}},
+        {"room", {720, 405}},
+        {"veach-mis", {1280, 720}},
+        {"glass-caustic-torus", {640, 480}}};
+    for (const auto& name : kScenes) {
+        SCOPED_TRACE(name);
+        SceneData g;
+        ASSERT_NO_FATAL_FAILURE(loadScene(name, g));
+        const Json& pmcr = g.json["extras"]["pmcr"];
+        const auto found = expected.find(name);
+        if (found == expected.end()) {
+            EXPECT_FALSE(pmcr.contains("paper_width") || pmcr.contains("paper_height"));
+            continue;
+        }
+        EXPECT_EQ(pmcr.value("paper_width", 0), found->second.first);
+        EXPECT_EQ(pmcr.value("paper_height", 0), found->second.second);
+    }
+}
+
+// Glass is a solid: KHR_materials_volume with a thickness (else glTF makes it thin-walled), on
+// closed meshes whose front faces point out.
+TEST(SceneFiles, GlassIsClosedAndFacesOut) {
+    size_t glassMeshes = 0;
+    for (const auto& name : kScenes) {
+        SCOPED_TRACE(name);
+        SceneData g;
+        ASSERT_NO_FATAL_FAILURE(loadScene(name, g));
+        std::set<size_t> glass;
+        for (size_t m = 0; m < g.json["materials"].size(); ++m) {
+            const Json ext = g.json["materials"][m].value("extensions", Json::object());
+            if (!ext.contains("KHR_materials_transmission"))
+                continue;
+            glass.insert(m);
+            ASSERT_TRUE(ext.contains("KHR_materials_volume"));
+            EXPECT_GT(ext["KHR_materials_volume"]["thicknessFactor"].get<double>(), 0.0);
+        }
+        for (const auto& mesh : g.json["meshes"]) {
+            const Triangles t = trianglesOf(g, mesh["name"].get<std::string>());
+            if (!glass.count(*t.materials.begin()))
+                continue;
+            ++glassMeshes;
+            EXPECT_GT(closedVolume(t), 0.0) << mesh["name"];  // NaN (open) fails too
+        }
+    }
+    EXPECT_GE(glassMeshes, 6u);  // three Cornell glass spheres, the egg, the ball, the dome
+}
+
+// PMC-HI's checkerboard: two lights of equal power whose areas differ 100 times; the near-mirror
+// and rough glossy squares.
+TEST(SceneFiles, CheckersHaveTwoEqualPowerLights) {
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("checkers-two-lights", g));
+    const double large = areaOf(trianglesOf(g, "LargeLight"));
+    const double small = areaOf(trianglesOf(g, "SmallLight"));
+    EXPECT_NEAR(large / small, 100.0, 1e-3);
+    EXPECT_NEAR(powerOverPi(g, "LargeLight") / powerOverPi(g, "SmallLight"), 1.0, 1e-5);
+    const Json* sharp = materialNamed(g, "GlossySquareSharp");
+    const Json* rough = materialNamed(g, "GlossySquareRough");
+    ASSERT_TRUE(sharp && rough);
+    EXPECT_LE(sharp->at("pbrMetallicRoughness")["roughnessFactor"].get<double>(), 0.1);
+    EXPECT_GE(rough->at("pbrMetallicRoughness")["roughnessFactor"].get<double>(), 0.3);
+}
+
+// Veach's MIS scene keeps the pbrt lights (radius 1, 0.5, 0.05 at equal power) and plates
+// (GGX alpha 0.01, 0.05, 0.1, 0.25, i.e. roughness sqrt(alpha)).
+TEST(SceneFiles, VeachMisMatchesPbrt) {
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("veach-mis", g));
+    for (auto [name, radius] : {std::pair{"LightRadius1", 1.0}, std::pair{"LightRadius0.5", 0.5},
+                                std::pair{"LightRadius0.05", 0.05}}) {
+        SCOPED_TRACE(name);
+        const Triangles t = trianglesOf(g, name);
+        glm::dvec3 center(0.0);
+        for (const auto& p : t.positions)
+            center += p / double(t.positions.size());
+        for (const auto& p : t.positions)
+            ASSERT_NEAR(glm::length(p - center), radius, 1e-6 * radius + 1e-6);
+        EXPECT_NEAR(center.y, 6.5, 1e-6);
+        EXPECT_GT(closedVolume(t), 0.0);
+        EXPECT_NEAR(powerOverPi(g, name) / powerOverPi(g, "LightRadius1"), 1.0, 1e-5);
+    }
+    for (auto [name, alpha] : {std::pair{"Smooth", 0.01}, std::pair{"Glossy", 0.05},
+                               std::pair{"Rough", 0.1}, std::pair{"SuperRough", 0.25}}) {
+        const Json* m = materialNamed(g, name);
+        ASSERT_NE(m, nullptr) << name;
+        EXPECT_EQ(m->at("pbrMetallicRoughness")["metallicFactor"].get<double>(), 1.0);
+        EXPECT_NEAR(m->at("pbrMetallicRoughness")["roughnessFactor"].get<double>(),
+                    std::sqrt(alpha), 1e-12);
+    }
+}
+
+// Veach's room: walls facing into the room, a smooth glass egg, two lamps.
+TEST(SceneFiles, RoomWallsFaceInAndTheEggIsSmoothGlass) {
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("room", g));
+    const Facing walls = facing(g, "Walls", {0.0, 4.0, 0.0});
+    EXPECT_EQ(walls.triangles, 10u);  // five walls: the side towards the camera is open
+    EXPECT_EQ(walls.awayFromPoint, 0u);
+    const Json* glass = materialNamed(g, "Glass");
+    ASSERT_NE(glass, nullptr);
+    EXPECT_EQ(glass->at("pbrMetallicRoughness")["roughnessFactor"].get<double>(), 0.0);
+    int emitters = 0;
+    for (const auto& m : g.json["materials"])
+        emitters += emission(m) != glm::dvec3(0.0);
+    EXPECT_EQ(emitters, 2);
+}
+
+// The dragon's 202,520 triangles are stored once, in meshes/stanford-dragon.bin, and both dragon
+// scenes reference that file.
+TEST(SceneFiles, DragonIsStoredOnce) {
+    for (const std::string name : {"dragon-direct", "dragon-caustic"}) {
+        SCOPED_TRACE(name);
+        SceneData g;
+        ASSERT_NO_FATAL_FAILURE(loadScene(name, g));
+        const Triangles dragon = trianglesOf(g, "Dragon");
+        EXPECT_EQ(dragon.positions.size(), 3u * 202520u);
+        ASSERT_EQ(dragon.buffers.size(), 1u);
+        EXPECT_EQ(g.json["buffers"][*dragon.buffers.begin()]["uri"], "meshes/stanford-dragon.bin");
+        double lowest = std::numeric_limits<double>::max();
+        for (const auto& p : dragon.positions)
+            lowest = std::min(lowest, p.y);
+        EXPECT_EQ(lowest, 0.0);  // standing on the floor
+    }
+}
+
+// The dragon-caustic ball is clear of the dragon, and the light is small and outside it.
+TEST(SceneFiles, DragonCausticBallIsClearOfTheDragon) {
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("dragon-caustic", g));
+    const Triangles ball = trianglesOf(g, "GlassBall");
+    glm::dvec3 center(0.0);
+    for (const auto& p : ball.positions)
+        center += p / double(ball.positions.size());
+    const double radius = glm::length(ball.positions[0] - center);
+    for (const auto& p : trianglesOf(g, "Dragon").positions)
+        ASSERT_GT(glm::length(p - center), radius);
+    EXPECT_LT(areaOf(trianglesOf(g, "Light")), 0.1);
+}
+
+// The torus lies inside the dome's cavity and the light outside the dome, so every light path
+// to the torus crosses the glass.
+TEST(SceneFiles, TorusIsUnderTheDomeAndTheLightOutside) {
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("glass-caustic-torus", g));
+    const Triangles dome = trianglesOf(g, "GlassDome");
+    double lowest = std::numeric_limits<double>::max();
+    for (const auto& p : dome.positions)
+        lowest = std::min(lowest, p.y);
+    const glm::dvec3 base(0.0, lowest, 0.0);  // the dome is centred on the y axis
+    double inner = std::numeric_limits<double>::max(), outer = 0.0;
+    for (const auto& p : dome.positions) {
+        inner = std::min(inner, glm::length(p - base));
+        outer = std::max(outer, glm::length(p - base));
+    }
+    for (const auto& p : trianglesOf(g, "Torus").positions) {
+        ASSERT_LT(glm::length(p - base), inner);
+        ASSERT_GE(p.y, base.y);
+    }
+    for (const auto& p : trianglesOf(g, "Light").positions)
+        ASSERT_GT(glm::length(p - base), outer);
 }
 
 }  // namespace

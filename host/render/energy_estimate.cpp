@@ -1,0 +1,46 @@
+#include "render/energy_estimate.h"
+
+#include "scene/scene.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
+    const RenderSettings& s = session.settings();
+    Film film(session.context(), session.width(), session.height());
+    vk::Kernel kernel(session.layout(), "pt");
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "energy pre-pass");
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
+    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.samplesPerPixel = 1;
+    push.seed = s.seed ^ 0x9e3779b9u;  // independent of the samples the method itself draws
+    push.maxDepth = s.maxDepth;
+    push.rrDepth = s.rrDepth;
+    const uint32_t pixels = film.pixelCount();
+    const uint32_t chunk = session.context().isCpuDevice() ? 16384u : pixels;
+    for (uint32_t pass = 0; pass < spp; ++pass) {
+        for (uint32_t offset = 0; offset < pixels; offset += chunk) {
+            vk::CommandBatch batch(session.layout(), &session.timer());
+            batch.bind(session.scene().descriptorSet());
+            batch.bind(work);
+            push.pixelOffset = offset;
+            push.invocationCount = std::min(chunk, pixels - offset);
+            push.sampleBase = pass;
+            batch.dispatch(kernel, push, push.invocationCount);
+            batch.submitAndWait();
+        }
+    }
+    film.addCounters(session.counters());
+    double sum = 0.0;
+    for (const auto& p : film.download())
+        if (p.sampleCount > 0) sum += double(luminance(p.sum / float(p.sampleCount)));
+    return sum / double(pixels);
+}
+
+}  // namespace pmcr

@@ -1,0 +1,16 @@
+// The average pixel luminance of an image, estimated by a short path-traced pre-pass: ERPT's
+// e_ave (ERPT eq. 7) and PMC-ER's image energy estimate (PMC-ER eq. 2-3). A poor estimate
+// changes only the run time of those methods, not their expected image (ERPT sec. 3.2).
+#pragma once
+
+#include <cstdint>
+
+#include "render/session.h"
+
+namespace pmcr {
+
+// Renders `spp` samples per pixel of path tracing (seeded apart from the main render) into a
+// scratch film and returns the mean over pixels of the per-pixel luminance estimate.
+double estimateMeanLuminance(RenderSession& session, uint32_t spp);
+
+}  // namespace pmcr

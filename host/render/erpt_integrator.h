@@ -1,0 +1,49 @@
+// Energy redistribution path tracing (Cline, Talbot and Egbert 2005). Each seed pass path-traces
+// one sample per pixel, recording every sample's light paths (shaders/pt_record.comp); a path of
+// energy e starts floor(U + e / (m e_d)) chains of m mutations (erpt_count, erpt_seed) that
+// deposit e_d per mutation at their current pixel (erpt_chains: lens and caustic perturbations,
+// Metropolis acceptance, fixed-point splatting). e_d = e_ave / k with e_ave the mean pixel
+// luminance of a short path-traced pre-pass and k the mutations per pixel per pass (ERPT eq. 7).
+// The image is the average of the passes, each an unbiased estimate (ERPT sec. 3.2).
+//
+// Options and their defaults are listed in render/methods.cpp. The two noise filters of ERPT
+// sec. 4.4 are biased and off by default.
+#pragma once
+
+#include "render/integrator.h"
+
+namespace pmcr {
+
+struct ErptOptions {
+    uint32_t chainLength = 100;         // m (ERPT: 100-1000 work well)
+    double mutationsPerPixel = 16.0;    // k per seed pass
+    uint32_t prepassSpp = 4;
+    float lensRadius = 5.0f;            // pixels (a disk of area ~ ERPT's 9x9 square)
+    float causticThetaMin = 1e-4f;      // radians (ERPT footnote 4)
+    float causticThetaMax = 0.1f;
+    uint32_t mutationMode = 0;          // gpu::MUTATION_*
+    float causticProbability = 0.5f;    // MUTATION_MIX
+    bool expectedValues = false;
+    int filterProposalsRadius = 0;      // biased: box radius of the proposal filter (3 = 7x7)
+    uint32_t filterConsecutive = 0;     // biased: cap on consecutive deposits on a pixel
+    uint32_t stepsPerDispatch = 4;
+
+    static ErptOptions fromSettings(const RenderSettings& settings);
+};
+
+class Erpt : public Integrator {
+public:
+    explicit Erpt(const RenderSettings& settings);
+    RenderOutput render(RenderSession& session) override;
+
+    static constexpr uint32_t kDefaultSpp = 16;
+
+private:
+    ErptOptions m_options;
+};
+
+// ERPT's proposed-mutations noise filter (sec. 4.4; biased): scales each pixel by the ratio of
+// the box-filtered proposal count (radius r) to its own count.
+void applyProposalFilter(Image& image, const std::vector<uint32_t>& proposals, int radius);
+
+}  // namespace pmcr

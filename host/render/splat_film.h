@@ -1,0 +1,34 @@
+// The film of energy-redistribution methods (ERPT, PMC-ER): 64-bit fixed-point deposits
+// (shared/chain_types.h SplatPixel), order-independent and so deterministic. Each seed pass is
+// added into a host accumulator and the device film cleared, so an interrupted render keeps the
+// completed passes only (a partial pass would be a biased, darker estimate).
+#pragma once
+
+#include <vector>
+
+#include "image/image.h"
+#include "shared/host_device.h"
+#include "vk/buffer.h"
+
+namespace pmcr {
+
+class SplatFilm {
+public:
+    SplatFilm(vk::Context& context, int width, int height);
+
+    const vk::Buffer& pixels() const { return m_pixels; }
+    // Adds the device film into the host accumulator and clears it: one pass is complete.
+    void completePass();
+    int completedPasses() const { return m_passes; }
+    // Per-pass average: sum over passes / passes, in pixel-value units (e_d per deposit).
+    Image resolve(float depositEnergy) const;
+
+private:
+    int m_width;
+    int m_height;
+    vk::Buffer m_pixels;
+    std::vector<uint64_t> m_accumulated;  // 3 per pixel
+    int m_passes = 0;
+};
+
+}  // namespace pmcr

@@ -1,0 +1,36 @@
+#version 460
+// ERPT: how many chains each path-traced sample (record) of this pass starts, and the energy of
+// all seed paths (in units of e_d; energy[0]), which the chains must deposit in expectation.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#extension GL_EXT_shader_atomic_float : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "shared/host_device.h"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+layout(push_constant, scalar) uniform PushBlock { ErptPush push; };
+#include "common/math.glsl"
+#include "common/erpt_seeds.glsl"
+
+layout(set = WORK_SET, binding = ERPT_BINDING_CHAIN_COUNTS, scalar) writeonly buffer CountBuffer {
+    uint chainCounts[];
+};
+
+layout(set = WORK_SET, binding = ERPT_BINDING_ENERGY, scalar) buffer EnergyBuffer { float energy[]; };
+
+void main() {
+    uint r = gl_GlobalInvocationID.x;
+    float seedEnergy = 0.0;
+    if (r < push.recordCount) {
+        PathRecord rec = records[r];
+        uint total = 0u;
+        for (uint s = 0u; s < 2u * rec.vertexCount; ++s) {
+            total += seedChainCount(rec, r, s);
+            vec3 c = seedContribution(rec, s);
+            if (isFinite(c)) seedEnergy += luminance(c) * push.seedScale / push.depositEnergy;
+        }
+        chainCounts[r] = total;
+    }
+    float sum = subgroupAdd(seedEnergy);
+    if (subgroupElect() && sum != 0.0) atomicAdd(energy[0], sum);
+}

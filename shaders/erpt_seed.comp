@@ -1,0 +1,80 @@
+#version 460
+// ERPT: builds chain states from seed paths. Invocation i makes chain push.chainOffset + i of
+// the pass (at chain slot push.chainBase + i): it finds its record by binary search over the
+// exclusive prefix sums of the chain counts, then its seed path within the record.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#include "shared/host_device.h"
+
+layout(local_size_x = WORKGROUP_SIZE) in;
+layout(push_constant, scalar) uniform PushBlock { ErptPush push; };
+#include "common/path_space.glsl"
+#include "common/erpt_seeds.glsl"
+
+layout(set = WORK_SET, binding = ERPT_BINDING_CHAIN_OFFSETS, scalar) readonly buffer OffsetBuffer {
+    uint chainOffsets[];
+};
+layout(set = WORK_SET, binding = ERPT_BINDING_CHAINS, scalar) writeonly buffer ChainBuffer {
+    ChainState chains[];
+};
+layout(set = WORK_SET, binding = ERPT_BINDING_PIXEL_STATS, scalar) buffer PixelStatsBuffer {
+    PixelChainStats pixelStats[];
+};
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i < push.chainCount) {
+        uint c = push.chainOffset + i;
+        // Last record whose offset is <= c (offsets are non-decreasing; 32 steps bound it).
+        uint lo = 0u, hi = push.recordCount;
+        for (uint step = 0u; step < 32u && hi - lo > 1u; ++step) {
+            uint mid = (lo + hi) / 2u;
+            if (chainOffsets[mid] <= c) lo = mid; else hi = mid;
+        }
+        uint r = lo;
+        PathRecord rec = records[r];
+        uint within = c - chainOffsets[r];
+        uint s = 0u;
+        uint n = 0u;
+        for (; s < 2u * rec.vertexCount; ++s) {
+            n = seedChainCount(rec, r, s);
+            if (within < n) break;
+            within -= n;
+        }
+
+        // Copy the seed path x1..x_j (+ the light point) into slot 0.
+        uint chain = push.chainBase + i;
+        uint base = pathBase(chain, 0u);
+        uint j = s / 2u;
+        bool explicitPath = (s & 1u) == 1u;
+        for (uint v = 0u; v <= j; ++v) {
+            PathVertex pv = recordVertices[rec.firstVertex + v];
+            uint flags = 0u;
+            if (v < j) {
+                flags = pv.flags & (VERTEX_SPECULAR | VERTEX_TRANSMISSION);
+                if ((pv.flags & VERTEX_SPECULAR) != 0u) flags |= pv.lobe << CHAIN_LOBE_SHIFT;
+            } else if (!explicitPath) {
+                flags = VERTEX_EMITTER;
+            }
+            chainVertices[base + v] = makeChainVertex(pv.triangle, pv.barycentrics, flags);
+        }
+        uint k = j + 1u;
+        if (explicitPath) {
+            PathVertex pv = recordVertices[rec.firstVertex + j];
+            chainVertices[base + k] = makeChainVertex(pv.lightTriangle, vec2(pv.lightB1, pv.lightB2), VERTEX_EMITTER);
+            k += 1u;
+        }
+        ChainState st;
+        st.raster = rec.raster;
+        st.vertexCount = k;
+        st.slot = 0u;
+        st.throughput = pathThroughput(base, k);
+        st.rng = hash3(push.seed ^ 0xc4a1e5u, push.pass, c);
+        st.lastPixel = 0xffffffffu;
+        st.consecutive = 0u;
+        st.origin = r * (2u * PATH_MAX_VERTICES) + s;
+        st.pad = 0u;
+        chains[chain] = st;
+        atomicAdd(pixelStats[rec.pixel].chainsStarted, 1u);
+    }
+}
