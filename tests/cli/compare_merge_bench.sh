@@ -57,15 +57,18 @@ grep -q '^Eff ' "$tmp/c.txt" || fail "compare --time printed no Eff"
 grep -q '4x4 at (2, 2)' "$tmp/c.txt" || fail "compare --crop did not measure the crop"
 [ -s "$tmp/err.png" ] || fail "no error image"
 
-# bench: the report, and erpt listed as not implemented.
-"$pmcr" bench "$furnace" --methods pt,direct,erpt --time 0.2 --reference "$tmp/ref.exr" --seed 9 \
-    --out "$tmp/rep" -q >"$tmp/bench.txt" || fail "bench"
+# bench: the report, and a method not implemented yet (if any is left) listed as such.
+planned=$("$pmcr" render --help | grep 'not implemented yet' | head -n 1 | awk '{print $1}')
+"$pmcr" bench "$furnace" --methods "pt,direct${planned:+,$planned}" --time 0.2 \
+    --reference "$tmp/ref.exr" --seed 9 --out "$tmp/rep" -q >"$tmp/bench.txt" || fail "bench"
 for f in report.html report.md results.json convergence-err.svg convergence-perr.svg \
     reference.png images/pt.png images/pt-error.png images/direct.png; do
     [ -s "$tmp/rep/$f" ] || fail "bench wrote no $f"
 done
 grep -q '^method | time (s) | samples (spp) |' "$tmp/bench.txt" || fail "bench table header"
-grep -qE '^erpt +\| not implemented yet \(issue [0-9]+\)' "$tmp/bench.txt" || fail "bench erpt row"
+if [ -n "$planned" ]; then
+    grep -qE "^$planned +\| not implemented yet" "$tmp/bench.txt" || fail "bench row of $planned"
+fi
 [ -z "$(ls -A "$tmp" | grep tmp-)" ] || fail "temporary files left behind"
 
 for cmd in compare merge bench; do

@@ -74,11 +74,11 @@ BenchReport syntheticReport() {
         run->effRatio = run->eff / pt.eff;
         run->peffRatio = run->peff / pt.peff;
     }
-    BenchRun erpt;
-    erpt.method = {"erpt", "erpt", {}};
-    erpt.implemented = false;
-    erpt.plannedIn = "issue 7";
-    r.runs = {pt, direct, erpt};
+    BenchRun planned;
+    planned.method = {"pmc-pt", "pmc-pt", {}};
+    planned.implemented = false;
+    planned.plannedIn = "issue 9";
+    r.runs = {pt, direct, planned};
     r.exposure = 0.5f;
     r.errorScale = 0.25f;
     return r;
@@ -117,7 +117,8 @@ TEST(BenchReport, TableHasThePapersColumnsAndOneRowPerMethod) {
     char expected[32];
     std::snprintf(expected, sizeof(expected), "%.2f", r.runs[1].eff / r.runs[0].eff);
     EXPECT_EQ(direct[7], expected);
-    EXPECT_EQ(cells(lines[4]), (std::vector<std::string>{"erpt", "not implemented yet (issue 7)"}));
+    EXPECT_EQ(cells(lines[4]),
+              (std::vector<std::string>{"pmc-pt", "not implemented yet (issue 9)"}));
 }
 
 TEST(BenchReport, WritesEveryFileItReferences) {
@@ -155,10 +156,10 @@ TEST(BenchReport, WritesEveryFileItReferences) {
     for (auto it = std::sregex_iterator(html.begin(), html.end(), row);
          it != std::sregex_iterator(); ++it)
         rows.push_back((*it)[1]);
-    EXPECT_EQ(rows, (std::vector<std::string>{"pt", "direct:light-samples=4", "erpt"}));
-    EXPECT_NE(html.find("not implemented yet (issue 7)"), std::string::npos);
+    EXPECT_EQ(rows, (std::vector<std::string>{"pt", "direct:light-samples=4", "pmc-pt"}));
+    EXPECT_NE(html.find("not implemented yet (issue 9)"), std::string::npos);
     EXPECT_NE(html.find("a note about the reference"), std::string::npos);
-    EXPECT_NE(md.find("| erpt | not implemented yet (issue 7) |"), std::string::npos);
+    EXPECT_NE(md.find("| pmc-pt | not implemented yet (issue 9) |"), std::string::npos);
 
     const nlohmann::json results = nlohmann::json::parse(readText(dir / "results.json"));
     ASSERT_EQ(results["methods"].size(), 3u);
@@ -197,7 +198,7 @@ TEST(BenchReport, MethodLists) {
     ASSERT_EQ(list.size(), 3u);
     EXPECT_EQ(list[1].method, "direct");
     EXPECT_EQ(list[1].options.at("light-samples"), "4");
-    EXPECT_EQ(list[2].method, "erpt");  // not implemented yet: accepted, reported as such
+    EXPECT_EQ(list[2].method, "erpt");
     for (const char* bad :
          {"pt,,direct", "nope", "direct:light-samples", "direct:bogus=1", "pt,pt"})
         EXPECT_THROW(parseBenchMethods("--methods", bad), Error) << bad;
