@@ -5,6 +5,9 @@
 #include <string>
 
 #include "cli/args.h"
+#include "cli/bench_command.h"
+#include "cli/compare_command.h"
+#include "cli/merge_command.h"
 #include "cli/render_command.h"
 #include "core/error.h"
 #include "vk/context.h"
@@ -19,6 +22,9 @@ void printUsage() {
         "\n"
         "usage:\n"
         "  pmcr render SCENE [options]   render a glTF scene (pmcr render --help for options)\n"
+        "  pmcr compare IMAGE REFERENCE  Err, relMSE, perceptual Err, Eff and P-Eff of an image\n"
+        "  pmcr merge IMAGE... -o OUT    average independent renders by their sample counts\n"
+        "  pmcr bench SCENE [options]    run methods side by side; HTML/Markdown/JSON report\n"
         "  pmcr --list-devices           list Vulkan devices and whether pmcr can use them\n"
         "  pmcr --help | --version\n",
         PMCR_VERSION);
@@ -59,16 +65,29 @@ int run(int argc, char** argv) {
             return 0;
         }
         if (command == "--list-devices") return listDevices();
-        if (command == "render") {
+        // Subcommands: `--help` anywhere prints the subcommand's help.
+        struct Subcommand {
+            const char* name;
+            void (*help)();
+            int (*run)(Args&);
+        };
+        static const Subcommand subcommands[] = {
+            {"render", printRenderHelp, [](Args& a) { return runRender(parseRenderCommand(a)); }},
+            {"compare", printCompareHelp, runCompare},
+            {"merge", printMergeHelp, runMerge},
+            {"bench", printBenchHelp, runBench},
+        };
+        for (const Subcommand& sub : subcommands) {
+            if (command != sub.name) continue;
             for (int i = 2; i < argc; ++i) {
                 const std::string a = argv[i];
                 if (a == "--help" || a == "-h") {
-                    printRenderHelp();
+                    sub.help();
                     return 0;
                 }
             }
             Args args(argc, argv, 2);
-            return runRender(parseRenderCommand(args));
+            return sub.run(args);
         }
         throw Error(command + ": unknown command (see pmcr --help)");
     } catch (const Error& e) {

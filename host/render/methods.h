@@ -25,6 +25,8 @@ struct MethodInfo {
     bool unbiased = true;
     std::vector<MethodOption> options;
     // Empty when the method is not implemented yet; `plannedIn` then says where it is tracked.
+    // Creating an integrator only parses its options (throwing pmcr::Error for a bad value) and
+    // touches no device: `pmcr bench` creates each method once to check its options up front.
     std::function<std::unique_ptr<Integrator>(const RenderSettings&)> create;
     std::string plannedIn;
 };

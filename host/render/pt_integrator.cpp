@@ -84,6 +84,9 @@ RenderOutput PathTracer::render(RenderSession& session) {
                                     ? sppDone / double(spp)
                                     : session.elapsedSeconds() / settings.timeLimit;
         session.progress().update(fraction, sppDone, "spp");
+        session.snapshotIfDue(samples, [&] {
+            return resolveAverage(film.download(), film.width(), film.height());
+        });
     }
     session.progress().finish();
 

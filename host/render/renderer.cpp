@@ -40,9 +40,13 @@ RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderS
     auto start = std::chrono::steady_clock::now();
     RenderResult result;
     result.output = integrator->render(session);
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.samplingSeconds = session.elapsedSeconds();
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+                     session.snapshotOverheadSeconds();
     result.interrupted = session.interrupted();
-    result.stats = renderStats(session, result.output, scene.path, result.seconds);
+    result.snapshots = session.takeSnapshots();
+    result.stats =
+        renderStats(session, result.output, scene.path, result.seconds, result.samplingSeconds);
     return result;
 }
 

@@ -16,8 +16,10 @@ namespace pmcr {
 struct RenderResult {
     RenderOutput output;
     nlohmann::json stats;
-    double seconds = 0.0;
+    double seconds = 0.0;          // wall time of the method, kernel creation included
+    double samplingSeconds = 0.0;  // the render clock (RenderSession::startClock) at the end
     bool interrupted = false;
+    std::vector<Snapshot> snapshots;  // settings.snapshotSeconds / snapshotSpp, in order
 };
 
 // Fills in width/height: explicit values win; else the scene's default size; else 640 wide at

@@ -34,6 +34,30 @@ bool RenderSession::interrupted() const { return interruptRequested(); }
 
 bool RenderSession::shouldStop() const { return interrupted() || timeUp(); }
 
+void RenderSession::snapshotIfDue(uint64_t cameraSamples, const std::function<Image()>& resolve) {
+    const double seconds = elapsedSeconds();
+    const double spp = double(cameraSamples) / (double(m_width) * double(m_height));
+    const auto& times = m_settings.snapshotSeconds;
+    const auto& spps = m_settings.snapshotSpp;
+    bool due = false;
+    // One snapshot covers every scheduled point passed since the last one.
+    while (m_nextSnapshotTime < times.size() && times[m_nextSnapshotTime] <= seconds) {
+        ++m_nextSnapshotTime;
+        due = true;
+    }
+    while (m_nextSnapshotSpp < spps.size() && spps[m_nextSnapshotSpp] <= spp) {
+        ++m_nextSnapshotSpp;
+        due = true;
+    }
+    if (!due) return;
+    const auto start = std::chrono::steady_clock::now();
+    m_snapshots.push_back({seconds, spp, resolve()});
+    // Take the snapshot's cost off the render clock.
+    const auto cost = std::chrono::steady_clock::now() - start;
+    m_start += std::chrono::duration_cast<std::chrono::steady_clock::duration>(cost);
+    m_snapshotOverhead += std::chrono::duration<double>(cost).count();
+}
+
 double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevice() ? 0.05 : 0.02; }
 
 double RenderSession::targetBatchSeconds() const { return m_context.isCpuDevice() ? 0.25 : 0.1; }

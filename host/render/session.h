@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +31,13 @@ struct RenderOutput {
     nlohmann::json methodStats = nlohmann::json::object();
 };
 
+// The image so far at one point of a render, for convergence plots.
+struct Snapshot {
+    double seconds = 0.0;          // on the render clock
+    double samplesPerPixel = 0.0;  // camera samples taken so far / pixels
+    Image image;
+};
+
 class RenderSession {
 public:
     RenderSession(vk::Context& context, const Scene& scene, const RenderSettings& settings,
@@ -51,9 +59,12 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
 
-    // The render clock starts when the method starts rendering (after scene upload and BVH).
+    // The render clock starts when the method starts rendering (after scene upload, BVH and
+    // kernel creation); time spent taking snapshots is not on it.
     void startClock();
     double elapsedSeconds() const;
+    // Wall time spent taking snapshots (taken off the render clock).
+    double snapshotOverheadSeconds() const { return m_snapshotOverhead; }
     bool timeUp() const;
     // Interrupted by the user or out of time: stop at the next batch boundary.
     bool shouldStop() const;
@@ -63,6 +74,13 @@ public:
     // and well under any GPU watchdog.
     double targetDispatchSeconds() const;
     double targetBatchSeconds() const;
+
+    // Integrators call this at every batch boundary with the camera samples taken so far and a
+    // function that resolves the image so far: when a snapshot is due (settings.snapshotSeconds
+    // or settings.snapshotSpp passed), the image is resolved and stored. One call per batch:
+    //   session.snapshotIfDue(samples, [&] { return resolveAverage(film.download(), w, h); });
+    void snapshotIfDue(uint64_t cameraSamples, const std::function<Image()>& resolve);
+    std::vector<Snapshot> takeSnapshots() { return std::move(m_snapshots); }
 
 private:
     vk::Context& m_context;
@@ -76,6 +94,10 @@ private:
     vk::Buffer m_placeholder;
     Counters m_counters;
     std::chrono::steady_clock::time_point m_start;
+    std::vector<Snapshot> m_snapshots;
+    size_t m_nextSnapshotTime = 0;
+    size_t m_nextSnapshotSpp = 0;
+    double m_snapshotOverhead = 0.0;
 };
 
 // Chooses how much work goes into one dispatch from the throughput measured so far, so that a

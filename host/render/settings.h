@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace pmcr {
 
@@ -23,6 +24,11 @@ struct RenderSettings {
     // Method-specific options (--chain-length 100 -> {"chain-length", "100"}), checked against
     // the method's declared options (render/methods.h).
     std::map<std::string, std::string> options;
+    // Convergence snapshots (`pmcr bench`): the image so far is recorded at these times on the
+    // render clock (seconds) and sample counts (samples per pixel), ascending; see
+    // RenderSession::snapshotIfDue.
+    std::vector<double> snapshotSeconds;
+    std::vector<double> snapshotSpp;
 
     // Typed access to an option with a default; throws pmcr::Error on a malformed value.
     int optionInt(const std::string& name, int defaultValue) const;

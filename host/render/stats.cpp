@@ -9,7 +9,8 @@
 namespace pmcr {
 
 nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
-                           const std::filesystem::path& scenePath, double renderSeconds) {
+                           const std::filesystem::path& scenePath, double renderSeconds,
+                           double samplingSeconds) {
     const RenderSettings& s = session.settings();
     nlohmann::json j;
     j["pmcr_version"] = PMCR_VERSION;
@@ -28,6 +29,7 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
     j["samples"] = output.cameraSamples;
     j["spp"] = output.samplesPerPixel;
     j["render_seconds"] = renderSeconds;
+    j["sampling_seconds"] = samplingSeconds;
     j["bvh_build_seconds"] = session.scene().bvhBuildSeconds();
     j["triangles"] = session.scene().scene().triangles.size();
     j["bvh_nodes"] = session.scene().bvh().nodes().size();

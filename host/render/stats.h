@@ -10,8 +10,11 @@
 
 namespace pmcr {
 
+// renderSeconds: wall time of the method (kernel creation included); samplingSeconds: the render
+// clock, from the method's first sample to its end (what --time limits and `pmcr bench` reports).
 nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
-                           const std::filesystem::path& scenePath, double renderSeconds);
+                           const std::filesystem::path& scenePath, double renderSeconds,
+                           double samplingSeconds);
 
 // `image.exr` -> `image.json`.
 std::filesystem::path statsPathFor(const std::filesystem::path& image);
