@@ -23,6 +23,7 @@ RenderCommand parseRenderCommand(Args& args) {
         else if (a == "--time") s.timeLimit = parseDouble(a, args.value(a), 1e-3, 1e7);
         else if (a == "--width") s.width = parseInt(a, args.value(a), 1, 16384);
         else if (a == "--height") s.height = parseInt(a, args.value(a), 1, 16384);
+        else if (a == "--paper-size") s.paperSize = true;
         else if (a == "--seed") s.seed = parseUint(a, args.value(a), 0, 0xffffffffu);
         else if (a == "--max-depth") s.maxDepth = parseUint(a, args.value(a), 1, 1024);
         else if (a == "--rr-depth") s.rrDepth = parseUint(a, args.value(a), 1, 1024);
@@ -110,6 +111,7 @@ void printRenderHelp() {
         "  --spp N              samples per pixel (default 64 for pt/direct)\n"
         "  --time SECONDS       render for this long (with --spp: whichever comes first)\n"
         "  --width W --height H image size (default: the scene's, else 640 at the camera's aspect)\n"
+        "  --paper-size         the size the scene's paper rendered it at (scenes/README.md)\n"
         "  --seed S             random seed; the same seed and device give the same image (default 1)\n"
         "  --max-depth D        maximum bounces, 1 = direct lighting (default 16)\n"
         "  --rr-depth D         Russian roulette from this bounce on (default 3)\n"

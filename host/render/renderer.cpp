@@ -17,6 +17,12 @@ void resolveImageSize(const Scene& scene, RenderSettings& s) {
     float aspect = 4.0f / 3.0f;
     if (s.camera >= 0 && s.camera < int(scene.cameras.size()) && scene.cameras[size_t(s.camera)].aspect > 0.0f)
         aspect = scene.cameras[size_t(s.camera)].aspect;
+    if (s.paperSize) {
+        if (s.width != 0 || s.height != 0) throw Error("--paper-size and --width/--height contradict each other");
+        if (scene.paperWidth == 0) fail(scene.path.string(), "--paper-size: the scene names no paper size");
+        s.width = scene.paperWidth;
+        s.height = scene.paperHeight;
+    }
     if (s.width == 0 && s.height == 0) {
         if (scene.defaultWidth > 0 && scene.defaultHeight > 0) {
             s.width = scene.defaultWidth;

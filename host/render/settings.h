@@ -12,6 +12,7 @@ struct RenderSettings {
     std::string method = "pt";
     int width = 0;            // 0: the scene's default size, else 640 wide at the camera's aspect
     int height = 0;
+    bool paperSize = false;   // --paper-size: the size the scene's paper used (scene extras)
     uint32_t spp = 0;         // samples per pixel (0: the method's default unless --time is given)
     double timeLimit = 0.0;   // seconds of rendering; 0 = no limit
     uint32_t seed = 1;

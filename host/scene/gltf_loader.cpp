@@ -518,6 +518,11 @@ void GltfLoader::readExtras() {
     if ((m_scene.defaultWidth == 0) != (m_scene.defaultHeight == 0)) {
         error("extras.pmcr needs both width and height");
     }
+    m_scene.paperWidth = dimension("paper_width");
+    m_scene.paperHeight = dimension("paper_height");
+    if ((m_scene.paperWidth == 0) != (m_scene.paperHeight == 0)) {
+        error("extras.pmcr needs both paper_width and paper_height");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

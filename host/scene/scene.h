@@ -40,6 +40,8 @@ struct Scene {
     std::vector<Camera> cameras;           // cameras in node order; never empty after loading
     int defaultWidth = 0;                  // image size the scene asks for (extras), 0 = pmcr default
     int defaultHeight = 0;
+    int paperWidth = 0;                    // size the paper rendered it at (extras; --paper-size)
+    int paperHeight = 0;
     glm::vec3 boundsMin{0.0f};
     glm::vec3 boundsMax{0.0f};
 };

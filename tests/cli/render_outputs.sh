@@ -15,6 +15,11 @@ for key in method device width height samples spp render_seconds gpu_kernels ray
 done
 [ -z "$(ls -A "$tmp" | grep tmp-)" ] || { echo "temporary files left behind"; exit 1; }
 
+# --paper-size takes the size the scene's paper used from the file.
+"$pmcr" render "$src/scenes/cornell-glass.glb" --paper-size --spp 1 -q -o "$tmp/paper.exr" --no-png
+grep -q '"width": 640' "$tmp/paper.json" && grep -q '"height": 480' "$tmp/paper.json" ||
+    { echo "--paper-size did not render 640x480"; exit 1; }
+
 # Same seed, same image, bit for bit.
 "$pmcr" render "$src/scenes/furnace.glb" --spp 2 -q -o "$tmp/g.exr" --no-png
 cmp "$tmp/f.exr" "$tmp/g.exr" || { echo "same seed gave a different image"; exit 1; }
