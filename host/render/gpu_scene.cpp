@@ -35,6 +35,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_bvhSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_emitters = buildEmitters(scene);
     m_info.emitterCount = uint32_t(m_emitters.emitters.size());
+    m_lightGroups = buildLightGroups(scene);
     m_info.nodeCount = uint32_t(m_bvh.nodes().size());
     m_info.totalEmitterPower = m_emitters.totalPower;
 
@@ -55,6 +56,11 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         m_nodes = vk::Buffer::storage(context, m_bvh.nodes(), "BVH node buffer");
         m_materials = vk::Buffer::storage(context, scene.materials, "material buffer");
         m_emitterBuffer = vk::Buffer::storage(context, m_emitters.emitters, "emitter buffer");
+        m_lightGroupBuffer = vk::Buffer::storage(context, m_lightGroups.lights, "light group buffer");
+        m_lightEmitterBuffer =
+            vk::Buffer::storage(context, m_lightGroups.emitters, "light group emitter buffer");
+        m_triangleLightBuffer =
+            vk::Buffer::storage(context, m_lightGroups.triangleLight, "triangle light buffer");
         m_textureInfos = vk::Buffer::storage(context, textureInfos, "texture table");
         m_texels = vk::Buffer::storage(context, texels, "texture buffer");
     } catch (const Error& e) {
@@ -69,6 +75,9 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_set->bind(gpu::BINDING_BVH_NODES, m_nodes);
     m_set->bind(gpu::BINDING_MATERIALS, m_materials);
     m_set->bind(gpu::BINDING_EMITTERS, m_emitterBuffer);
+    m_set->bind(gpu::BINDING_LIGHT_GROUPS, m_lightGroupBuffer);
+    m_set->bind(gpu::BINDING_LIGHT_EMITTERS, m_lightEmitterBuffer);
+    m_set->bind(gpu::BINDING_TRIANGLE_LIGHTS, m_triangleLightBuffer);
     m_set->bind(gpu::BINDING_TEXTURE_INFOS, m_textureInfos);
     m_set->bind(gpu::BINDING_TEXELS, m_texels);
 }

@@ -24,12 +24,14 @@ public:
     const Scene& scene() const { return m_scene; }
     const Bvh& bvh() const { return m_bvh; }
     const EmitterTable& emitters() const { return m_emitters; }
+    const LightGroupTable& lightGroups() const { return m_lightGroups; }
     double bvhBuildSeconds() const { return m_bvhSeconds; }
 
 private:
     const Scene& m_scene;
     Bvh m_bvh;
     EmitterTable m_emitters;
+    LightGroupTable m_lightGroups;
     gpu::SceneInfo m_info{};
     double m_bvhSeconds = 0.0;
     vk::Buffer m_infoBuffer;
@@ -39,6 +41,9 @@ private:
     vk::Buffer m_nodes;
     vk::Buffer m_materials;
     vk::Buffer m_emitterBuffer;
+    vk::Buffer m_lightGroupBuffer;
+    vk::Buffer m_lightEmitterBuffer;
+    vk::Buffer m_triangleLightBuffer;
     vk::Buffer m_textureInfos;
     vk::Buffer m_texels;
     std::unique_ptr<vk::DescriptorSet> m_set;

@@ -1,6 +1,8 @@
 #include "scene/scene.h"
 
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -40,6 +42,57 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
     return triangleArea(scene, t) * luminance(m.emission) * glm::pi<float>() * sides;
 }
 
+namespace {
+
+// Fills pmf, aliasThreshold and alias of `table` (one entry per element of `power`, alias
+// indices relative to the table's start) and returns the total power.
+// Vose's alias method (Vose 1991, "A linear algorithm for generating random numbers with a
+// given distribution"): pair each under-full slot with an over-full donor.
+double buildAliasTable(const std::vector<double>& power, gpu::Emitter* table) {
+    const size_t n = power.size();
+    double total = 0.0;
+    for (double p : power)
+        total += p;
+    std::vector<double> scaled(n);
+    std::vector<uint32_t> small, large;
+    for (size_t i = 0; i < n; ++i) {
+        table[i].pmf = float(power[i] / total);
+        scaled[i] = power[i] / total * double(n);
+        (scaled[i] < 1.0 ? small : large).push_back(uint32_t(i));
+    }
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back();
+        small.pop_back();
+        const uint32_t l = large.back();
+        table[s].aliasThreshold = float(scaled[s]);
+        table[s].alias = l;
+        scaled[l] = (scaled[l] + scaled[s]) - 1.0;
+        if (scaled[l] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    // Slots left in either list are full up to rounding: they always keep themselves.
+    for (const auto* rest : {&small, &large}) {
+        for (uint32_t i : *rest) {
+            table[i].aliasThreshold = 1.0f;
+            table[i].alias = i;
+        }
+    }
+    return total;
+}
+
+// Union-find with path halving.
+uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+}  // namespace
+
 EmitterTable buildEmitters(const Scene& scene) {
     EmitterTable table;
     std::vector<double> power;
@@ -50,43 +103,63 @@ EmitterTable buildEmitters(const Scene& scene) {
             power.push_back(p);
         }
     }
-    const size_t n = power.size();
-    if (n == 0)
+    if (power.empty())
         return table;
-    double total = 0.0;
-    for (double p : power)
-        total += p;
-    table.totalPower = float(total);
-
-    // Vose's alias method (Vose 1991, "A linear algorithm for generating random numbers with a
-    // given distribution"): pair each under-full slot with an over-full donor.
-    std::vector<double> scaled(n);
-    std::vector<uint32_t> small, large;
-    for (size_t i = 0; i < n; ++i) {
-        table.emitters[i].pmf = float(power[i] / total);
-        scaled[i] = power[i] / total * double(n);
-        (scaled[i] < 1.0 ? small : large).push_back(uint32_t(i));
-    }
-    while (!small.empty() && !large.empty()) {
-        const uint32_t s = small.back();
-        small.pop_back();
-        const uint32_t l = large.back();
-        table.emitters[s].aliasThreshold = float(scaled[s]);
-        table.emitters[s].alias = l;
-        scaled[l] = (scaled[l] + scaled[s]) - 1.0;
-        if (scaled[l] < 1.0) {
-            large.pop_back();
-            small.push_back(l);
-        }
-    }
-    // Slots left in either list are full up to rounding: they always keep themselves.
-    for (const auto* rest : {&small, &large}) {
-        for (uint32_t i : *rest) {
-            table.emitters[i].aliasThreshold = 1.0f;
-            table.emitters[i].alias = i;
-        }
-    }
+    table.totalPower = float(buildAliasTable(power, table.emitters.data()));
     return table;
+}
+
+LightGroupTable buildLightGroups(const Scene& scene) {
+    LightGroupTable out;
+    out.triangleLight.assign(scene.triangles.size(), gpu::LIGHT_NONE);
+    std::vector<uint32_t> emissive;
+    std::vector<double> power;
+    for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
+        const float p = emitterPower(scene, t);
+        if (p > 0.0f && std::isfinite(p)) {
+            emissive.push_back(t);
+            power.push_back(p);
+        }
+    }
+    // Union emitters that share a vertex position (meshes often duplicate vertices per face).
+    const size_t n = emissive.size();
+    std::vector<uint32_t> parent(n);
+    for (size_t i = 0; i < n; ++i)
+        parent[i] = uint32_t(i);
+    std::map<std::tuple<float, float, float>, uint32_t> owner;
+    for (size_t i = 0; i < n; ++i) {
+        const gpu::Triangle& tri = scene.triangles[emissive[i]];
+        for (uint32_t v : {tri.i0, tri.i1, tri.i2}) {
+            const glm::vec3& p = scene.vertices[v].position;
+            auto [it, inserted] = owner.try_emplace({p.x, p.y, p.z}, uint32_t(i));
+            if (!inserted) parent[findRoot(parent, uint32_t(i))] = findRoot(parent, it->second);
+        }
+    }
+    // Number the lights by their first triangle; list each light's emitters in scene order.
+    std::vector<uint32_t> lightOfRoot(n, gpu::LIGHT_NONE);
+    std::vector<std::vector<uint32_t>> members;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t root = findRoot(parent, uint32_t(i));
+        if (lightOfRoot[root] == gpu::LIGHT_NONE) {
+            lightOfRoot[root] = uint32_t(members.size());
+            members.emplace_back();
+        }
+        members[lightOfRoot[root]].push_back(uint32_t(i));
+    }
+    for (uint32_t l = 0; l < members.size(); ++l) {
+        gpu::LightGroup group{};
+        group.firstEmitter = uint32_t(out.emitters.size());
+        group.emitterCount = uint32_t(members[l].size());
+        std::vector<double> groupPower;
+        for (uint32_t i : members[l]) {
+            out.emitters.push_back({emissive[i], 0.0f, 1.0f, 0u});
+            groupPower.push_back(power[i]);
+            out.triangleLight[emissive[i]] = l;
+        }
+        group.power = float(buildAliasTable(groupPower, out.emitters.data() + group.firstEmitter));
+        out.lights.push_back(group);
+    }
+    return out;
 }
 
 void finalizeScene(Scene& scene) {

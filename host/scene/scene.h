@@ -54,6 +54,17 @@ struct EmitterTable {
 };
 EmitterTable buildEmitters(const Scene& scene);
 
+// Lights as the adaptive direct-lighting sampler (PMC-HI) sees them: the emitters grouped into
+// connected components (triangles sharing a vertex position, union-find), each with an alias
+// table over its own triangles' power; and, per scene triangle, its light (gpu::LIGHT_NONE when
+// it does not emit). Lights are numbered by their first triangle in scene order.
+struct LightGroupTable {
+    std::vector<gpu::LightGroup> lights;
+    std::vector<gpu::Emitter> emitters;   // alias tables, one range per light
+    std::vector<uint32_t> triangleLight;  // one per scene triangle
+};
+LightGroupTable buildLightGroups(const Scene& scene);
+
 // Selection probability of an emitter triangle as the kernels compute it for MIS:
 // power of the triangle / total power. Shared formula: see shaders/common/lights.glsl.
 float emitterPower(const Scene& scene, uint32_t triangle);

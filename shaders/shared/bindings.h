@@ -14,7 +14,10 @@ PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[]
 PMCR_CONST uint BINDING_EMITTERS = 6;        // Emitter[]             (alias table over emitters)
 PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]
 PMCR_CONST uint BINDING_TEXELS = 8;          // uint[] (RGBA8, sRGB-encoded colour)
-PMCR_CONST uint SCENE_BINDING_COUNT = 9;
+PMCR_CONST uint BINDING_LIGHT_GROUPS = 9;     // LightGroup[]         (connected emitters, PMC-HI)
+PMCR_CONST uint BINDING_LIGHT_EMITTERS = 10;  // Emitter[]             (per light alias tables)
+PMCR_CONST uint BINDING_TRIANGLE_LIGHTS = 11; // uint[] per triangle: its LightGroup, or LIGHT_NONE
+PMCR_CONST uint SCENE_BINDING_COUNT = 12;
 
 PMCR_CONST uint WORK_SET = 1;
 PMCR_CONST uint WORK_BINDING_COUNT = 16;     // storage buffers 0..15, meaning set per kernel

@@ -106,6 +106,20 @@ struct Emitter {
 };
 PMCR_CHECK_SIZE(Emitter, 16);
 
+// A light of the adaptive direct-lighting sampler (PMC-HI): a connected group of emissive
+// triangles (sharing vertex positions), sampled by its own alias table over its triangles'
+// power. Its table is LightGroupEmitter entries [firstEmitter, firstEmitter + emitterCount);
+// their `alias` indices are relative to firstEmitter and their `pmf` is within the light.
+struct LightGroup {
+    uint firstEmitter;
+    uint emitterCount;
+    float power;           // sum of emitterPower over its triangles
+    uint pad;
+};
+PMCR_CHECK_SIZE(LightGroup, 16);
+
+PMCR_CONST uint LIGHT_NONE = 0xFFFFFFFFu;  // triangleLight of a triangle that does not emit
+
 struct TextureInfo {
     uint offset;           // first texel in the texel buffer
     uint width;

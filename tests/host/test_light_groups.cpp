@@ -1,0 +1,114 @@
+// Lights as PMC-HI sees them (scene/scene.h buildLightGroups): emitters grouped by shared vertex
+// positions, each group an alias table over its own triangles' power.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "scene/gltf_loader.h"
+#include "scene/scene.h"
+#include "test_util.h"
+
+namespace pmcr {
+namespace {
+
+gpu::Material emissive(const glm::vec3& emission) {
+    gpu::Material m{};
+    m.baseColor = glm::vec3(0.5f);
+    m.baseColorTexture = -1;
+    m.emission = emission;
+    m.roughness = 1.0f;
+    m.ior = 1.5f;
+    return m;
+}
+
+// Triangles with their own (duplicated) vertices, as glTF meshes often have.
+void addTriangle(Scene& s, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2,
+                 uint32_t material) {
+    const uint32_t base = uint32_t(s.vertices.size());
+    for (const glm::vec3& p : {p0, p1, p2}) {
+        gpu::Vertex v{};
+        v.position = p;
+        s.vertices.push_back(v);
+    }
+    s.triangles.push_back({base, base + 1, base + 2, material});
+}
+
+// Checks the tables' invariants: every emitter in exactly one light, pmfs summing to 1 within
+// each light, the alias table reproducing them, and the per-triangle index agreeing.
+void expectConsistent(const Scene& scene, const LightGroupTable& t) {
+    ASSERT_EQ(t.triangleLight.size(), scene.triangles.size());
+    size_t emitters = 0;
+    for (uint32_t tri = 0; tri < scene.triangles.size(); ++tri)
+        if (emitterPower(scene, tri) > 0.0f) ++emitters;
+    EXPECT_EQ(t.emitters.size(), emitters);
+    for (uint32_t l = 0; l < t.lights.size(); ++l) {
+        const gpu::LightGroup& g = t.lights[l];
+        ASSERT_LE(g.firstEmitter + g.emitterCount, t.emitters.size());
+        double pmfSum = 0.0, power = 0.0;
+        std::vector<double> aliasMass(g.emitterCount, 0.0);
+        for (uint32_t i = 0; i < g.emitterCount; ++i) {
+            const gpu::Emitter& e = t.emitters[g.firstEmitter + i];
+            EXPECT_EQ(t.triangleLight[e.triangle], l);
+            pmfSum += e.pmf;
+            power += emitterPower(scene, e.triangle);
+            ASSERT_LT(e.alias, g.emitterCount);
+            aliasMass[i] += e.aliasThreshold / g.emitterCount;
+            aliasMass[e.alias] += (1.0 - e.aliasThreshold) / g.emitterCount;
+        }
+        EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+        EXPECT_NEAR(g.power, power, 1e-5 * power);
+        for (uint32_t i = 0; i < g.emitterCount; ++i)
+            EXPECT_NEAR(aliasMass[i], t.emitters[g.firstEmitter + i].pmf, 1e-5);
+    }
+}
+
+TEST(LightGroups, TrianglesSharingAPositionFormOneLight) {
+    Scene s;
+    s.path = "groups.gltf";
+    s.materials = {emissive(glm::vec3(0.0f)), emissive(glm::vec3(1.0f)), emissive(glm::vec3(3.0f))};
+    addTriangle(s, {-5, 0, -5}, {5, 0, -5}, {-5, 0, 5}, 0);  // floor, not a light
+    // Light A: a quad of two triangles sharing an edge (by position only), plus a triangle
+    // touching the quad at one corner.
+    addTriangle(s, {0, 2, 0}, {1, 2, 0}, {1, 2, 1}, 1);
+    addTriangle(s, {0, 2, 0}, {1, 2, 1}, {0, 2, 1}, 1);
+    addTriangle(s, {1, 2, 1}, {2, 2, 1}, {2, 2, 2}, 2);
+    // Light B: a separate quad.
+    addTriangle(s, {3, 2, 0}, {4, 2, 0}, {4, 2, 1}, 2);
+    addTriangle(s, {3, 2, 0}, {4, 2, 1}, {3, 2, 1}, 2);
+    // Light C: a lone triangle.
+    addTriangle(s, {-3, 1, 0}, {-3, 1, 1}, {-3, 3, 0.5f}, 1);
+    s.cameras.push_back(Camera{});
+    finalizeScene(s);
+
+    const LightGroupTable t = buildLightGroups(s);
+    ASSERT_EQ(t.lights.size(), 3u);
+    EXPECT_EQ(t.triangleLight[0], gpu::LIGHT_NONE);
+    EXPECT_EQ(t.triangleLight[1], 0u);
+    EXPECT_EQ(t.triangleLight[2], 0u);
+    EXPECT_EQ(t.triangleLight[3], 0u);
+    EXPECT_EQ(t.triangleLight[4], 1u);
+    EXPECT_EQ(t.triangleLight[5], 1u);
+    EXPECT_EQ(t.triangleLight[6], 2u);
+    EXPECT_EQ(t.lights[0].emitterCount, 3u);
+    // Within light A the brighter triangle (same area, 3x the radiance) gets 3/5 of the pmf.
+    EXPECT_NEAR(t.emitters[t.lights[0].firstEmitter + 2].pmf, 0.6, 1e-6);
+    expectConsistent(s, t);
+}
+
+TEST(LightGroups, ShippedScenes) {
+    struct Case {
+        const char* file;
+        size_t lights;
+    };
+    for (const Case& c : {Case{"scenes/checkers-two-lights.glb", 2}, Case{"scenes/cornell-classic.glb", 1},
+                          Case{"scenes/cornell-glass.glb", 1}, Case{"scenes/cornell-spheres.glb", 1}}) {
+        const Scene scene = loadScene(test::sourcePath(c.file));
+        const LightGroupTable t = buildLightGroups(scene);
+        EXPECT_EQ(t.lights.size(), c.lights) << c.file;
+        expectConsistent(scene, t);
+    }
+}
+
+}  // namespace
+}  // namespace pmcr
