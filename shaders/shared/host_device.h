@@ -33,6 +33,7 @@ using uint64_t = std::uint64_t;
 #include "shared/render_types.h"
 #include "shared/path_types.h"
 #include "shared/chain_types.h"
+#include "shared/pmc_hi_types.h"
 
 #ifdef __cplusplus
 }  // namespace pmcr::gpu

@@ -1,0 +1,39 @@
+// Lights as PMC-HI sees them (host/scene/scene.h buildLightGroups): connected groups of emitter
+// triangles, each sampled by its own alias table over its triangles' power (the same power
+// formula as lights.glsl), a point uniform on the chosen triangle.
+#ifndef PMCR_LIGHT_GROUPS_GLSL
+#define PMCR_LIGHT_GROUPS_GLSL
+
+#include "common/lights.glsl"
+
+layout(set = SCENE_SET, binding = BINDING_LIGHT_GROUPS, scalar) readonly buffer LightGroupBuffer {
+    LightGroup lightGroups[];
+};
+layout(set = SCENE_SET, binding = BINDING_LIGHT_EMITTERS, scalar) readonly buffer LightEmitterBuffer {
+    Emitter lightEmitters[];
+};
+layout(set = SCENE_SET, binding = BINDING_TRIANGLE_LIGHTS, scalar) readonly buffer TriangleLightBuffer {
+    uint triangleLights[];
+};
+
+// Density, per unit area, of light `light`'s sampler producing a point on its triangle `tri`.
+float lightGroupAreaPdf(uint light, uint tri) {
+    return emitterPower(tri) / (lightGroups[light].power * triangleArea(tri));
+}
+
+// A point on light `light`: a triangle by the light's alias table (uSelect), then uniform on it.
+LightSample sampleLightGroup(uint light, float uSelect, vec2 uPoint) {
+    LightGroup g = lightGroups[light];
+    float scaled = uSelect * float(g.emitterCount);
+    uint slot = min(uint(scaled), g.emitterCount - 1u);
+    Emitter e = lightEmitters[g.firstEmitter + slot];
+    uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle
+                                                          : lightEmitters[g.firstEmitter + e.alias].triangle;
+    LightSample ls;
+    ls.barycentrics = sampleUniformTriangle(uPoint);
+    ls.point = surfaceAt(tri, ls.barycentrics);
+    ls.pdfArea = lightGroupAreaPdf(light, tri);
+    return ls;
+}
+
+#endif

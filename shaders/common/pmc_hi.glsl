@@ -1,0 +1,288 @@
+// PMC-HI, the adaptive hemispheric-integral sampler (Fan, Lai, Chenney and Dyer, "Population
+// Monte Carlo Samplers for Rendering", sec. 5) for direct lighting: each estimate of the light
+// reflected at a shading point runs a tiny population Monte Carlo over incident directions.
+//
+// Kernel (eq. 7): K = a_BSDF h_BSDF + sum_l a_l h_l + a_cone h_cone, one light component per
+// light (shaders/common/light_groups.glsl) or one shared by all (lights.glsl). Each iteration
+// draws N = populationPerComponent * m directions (m = slots in use, the cone included) by
+// deterministic mixture sampling, traces one closest-hit ray per direction and weights it by
+// w = f / K (eq. 8, the full mixture: Rao-Blackwellised); the weights' shares per component
+// give the next a_k (eq. 9), their mean direction and spread the next cone. The estimate is the
+// average over iterations of (1/N) sum w (eq. 1).
+//
+// Unbiasedness: given the kernel, E[(1/N) sum f/K] = sum_k (E[n_k]/N) int h_k f/K = int f,
+// since E[n_k] = N a_k and sum_k a_k h_k = K, wherever K > 0. The kernel of iteration t depends
+// only on earlier iterations, and a defensive floor on the BSDF and light weights keeps K > 0
+// wherever f > 0 (every emitter direction is covered by a light component, every delta lobe by
+// the BSDF component), so every iteration, and their fixed-weight average, is unbiased.
+//
+// Densities are those of the sampled direction: a light component's density of w is its area
+// density at the first surface the ray from x along w hits, converted to solid angle, when that
+// surface is one of its emitters. A light-sampled direction whose first hit is not (up to
+// rounding) the sampled point is scored 0 -- occluded, or a point behind another part of a
+// non-convex light -- so the density of the directions that score is exactly that first-hit
+// density.
+#ifndef PMCR_PMC_HI_GLSL
+#define PMCR_PMC_HI_GLSL
+
+#include "common/light_groups.glsl"
+#include "common/sampler.glsl"
+#include "common/shading.glsl"
+
+// Deterministic mixture sampling (Hesterberg 1995; the paper's sec. 4.3): floor(N a_k) samples
+// from each of the first m components, the R = N - sum floor(N a_k) others by systematic
+// sampling of the residuals r_k = N a_k - floor(N a_k) (points u + j, j < R, on their cumulative
+// sum scaled to R). E[counts_k] = N a_k and the counts sum to N.
+void pmcHiAllocate(float alpha[PMC_HI_MAX_COMPONENTS], uint m, uint N, float u,
+                   out uint counts[PMC_HI_MAX_COMPONENTS]) {
+    float residual[PMC_HI_MAX_COMPONENTS];
+    uint assigned = 0u;
+    float residualSum = 0.0;
+    uint lastResidual = 0u;
+    for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) {
+        counts[k] = 0u;
+        residual[k] = 0.0;
+        if (k >= m) continue;
+        float target = float(N) * max(alpha[k], 0.0);
+        float whole = min(floor(target), float(N - assigned));
+        counts[k] = uint(whole);
+        residual[k] = max(target - whole, 0.0);
+        assigned += counts[k];
+        residualSum += residual[k];
+        if (residual[k] > 0.0) lastResidual = k;
+    }
+    uint R = N - assigned;
+    if (R == 0u) return;
+    float scale = residualSum > 0.0 ? float(R) / residualSum : 0.0;
+    float cumulative = 0.0;
+    uint given = 0u;
+    for (uint k = 0u; k < m; ++k) {
+        cumulative += residual[k] * scale;
+        // Points u + j below `cumulative`; the last positive residual takes what rounding left.
+        uint upTo = k >= lastResidual ? R : uint(clamp(ceil(cumulative - u), 0.0, float(R)));
+        upTo = max(upTo, given);
+        counts[k] += upTo - given;
+        given = upTo;
+    }
+}
+
+// Uniform direction in the cone around unit `axis` with 1 - cos(half-angle) = oneMinusCos
+// (written this way to keep narrow cones precise); density 1 / (2 pi oneMinusCos) inside.
+vec3 pmcHiSampleCone(vec3 axis, float oneMinusCos, vec2 u) {
+    float x = u.x * oneMinusCos;
+    float cosTheta = 1.0 - x;
+    float sinTheta = safeSqrt(x * (2.0 - x));
+    float phi = TWO_PI * u.y;
+    vec3 t, b;
+    orthonormalBasis(axis, t, b);
+    return normalize(sinTheta * cos(phi) * t + sinTheta * sin(phi) * b + cosTheta * axis);
+}
+
+float pmcHiConePdf(vec3 axis, float oneMinusCos, vec3 w) {
+    return oneMinusCos > 0.0 && 1.0 - dot(w, axis) <= oneMinusCos ? 1.0 / (TWO_PI * oneMinusCos) : 0.0;
+}
+
+// Solid-angle density, seen from `from`, with which a light component samples the direction to
+// emitter point `l`, and that component's slot (PMC_HI_MAX_COMPONENTS when l does not emit).
+float pmcHiLightDensity(PmcHiParams p, vec3 from, SurfacePoint l, out uint slot) {
+    slot = PMC_HI_MAX_COMPONENTS;
+    uint light = triangleLights[l.triangle];
+    if (light == LIGHT_NONE) return 0.0;
+    float pdfArea;
+    if (p.sharedLight != 0u) {
+        slot = PMC_HI_LIGHT;
+        pdfArea = emitterAreaPdf(l.triangle);
+    } else {
+        slot = PMC_HI_LIGHT + light;
+        pdfArea = lightGroupAreaPdf(light, l.triangle);
+    }
+    return areaToSolidAngle(pdfArea, from, l.position, l.normal);
+}
+
+// The mixture's state between iterations: the weights and the cone.
+struct PmcHiKernel {
+    float alpha[PMC_HI_MAX_COMPONENTS];
+    vec3 coneAxis;
+    float coneOneMinusCos;  // 0: no cone yet
+};
+
+// A direction drawn from one component, before it is traced.
+struct PmcHiDraw {
+    vec3 wi;
+    vec3 fr;               // f_r |cos| for wi (a delta lobe: its weight, bs.f |cos|)
+    float pdfBsdf;         // BSDF density of wi (a delta lobe: its discrete probability)
+    bool delta;            // drawn by a delta lobe of the BSDF
+    float lightDistance;   // drawn by a light: distance to the sampled point; else -1
+};
+
+// Draws a direction from component k of `kern`; false when no direction results (the sample
+// still counts in N, with w = 0).
+bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float u1, vec2 u2,
+                        out PmcHiDraw d) {
+    d.wi = vec3(0.0);
+    d.fr = vec3(0.0);
+    d.pdfBsdf = 0.0;
+    d.delta = false;
+    d.lightDistance = -1.0;
+    if (k == PMC_HI_BSDF) {
+        BsdfSample bs;
+        if (!shadingSample(sh, u1, u2, bs, d.wi)) return false;
+        d.delta = bs.delta;
+        d.fr = bs.f * abs(bs.wi.z);
+        d.pdfBsdf = bs.pdf;
+        return true;
+    }
+    if (k == PMC_HI_CONE) {
+        if (kern.coneOneMinusCos <= 0.0) return false;
+        d.wi = pmcHiSampleCone(kern.coneAxis, kern.coneOneMinusCos, u2);
+    } else {
+        LightSample ls = p.sharedLight != 0u ? sampleLight(u1, u2)
+                                             : sampleLightGroup(k - PMC_HI_LIGHT, u1, u2);
+        vec3 toLight = ls.point.position - sh.surface.position;
+        d.lightDistance = length(toLight);
+        if (!(d.lightDistance > 0.0)) return false;
+        d.wi = toLight / d.lightDistance;
+    }
+    float absCos;
+    d.fr = shadingEval(sh, d.wi, d.pdfBsdf, absCos) * absCos;
+    return true;
+}
+
+// Density of a non-delta direction wi whose ray first hits `l` (when `hit`): the mixture K of
+// eq. 7 when k == PMC_HI_MAX_COMPONENTS, else component k's own h_k.
+float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pdfBsdf, bool hit,
+                   SurfacePoint l, uint k) {
+    uint lightSlot = PMC_HI_MAX_COMPONENTS;
+    float pdfLight = hit ? pmcHiLightDensity(p, from, l, lightSlot) : 0.0;
+    float pdfCone = pmcHiConePdf(kern.coneAxis, kern.coneOneMinusCos, wi);
+    if (k == PMC_HI_MAX_COMPONENTS) {
+        // Only one light component can reach the point the ray hits.
+        float K = kern.alpha[PMC_HI_BSDF] * pdfBsdf + kern.alpha[PMC_HI_CONE] * pdfCone;
+        if (lightSlot < PMC_HI_MAX_COMPONENTS) K += kern.alpha[lightSlot] * pdfLight;
+        return K;
+    }
+    return k == PMC_HI_BSDF ? pdfBsdf : k == PMC_HI_CONE ? pdfCone : k == lightSlot ? pdfLight : 0.0;
+}
+
+// Draws one direction from component k of `kern`, traces it and scores it: w = f / K (eq. 8,
+// Rao-Blackwellised) or f / h_k (the per-component variant of sec. 7), f = Le f_r |cos|.
+// Returns false for a sample that produced no direction (w = 0).
+bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, inout Sampler smp,
+                 inout uint rays, out vec3 w, out vec3 wi) {
+    w = vec3(0.0);
+    const bool rb = (p.flags & PMC_HI_FLAG_RAO_BLACKWELL) != 0u;
+    float u1 = samplerGet1D(smp);
+    vec2 u2 = samplerGet2D(smp);
+    PmcHiDraw d;
+    bool drawn = pmcHiDrawDirection(sh, p, k, kern, u1, u2, d);
+    wi = d.wi;
+    if (!drawn) return false;
+    if (maxComponent(d.fr) <= 0.0) return true;
+
+    // One closest-hit ray: what the direction sees.
+    Hit hit;
+    rays += 1u;
+    if (!traceClosest(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX, hit)) return true;
+    if (d.lightDistance >= 0.0 && abs(hit.t - d.lightDistance) > 1e-3 * d.lightDistance) return true;
+    SurfacePoint l = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    vec3 Le = emittedRadiance(l, -d.wi);
+    if (maxComponent(Le) <= 0.0) return true;
+    vec3 f = d.fr * Le;
+
+    // A delta lobe's direction is an atom only the BSDF component has: K = a_BSDF P(lobe).
+    if (d.delta) {
+        w = f / (rb ? kern.alpha[PMC_HI_BSDF] * d.pdfBsdf : d.pdfBsdf);
+        return true;
+    }
+    float density = pmcHiDensity(p, kern, sh.surface.position, d.wi, d.pdfBsdf, true, l,
+                                 rb ? PMC_HI_MAX_COMPONENTS : k);
+    if (density > 0.0) w = f / density;
+    return true;
+}
+
+// One PMC-HI estimate of the light reflected at `sh` (the integral of eq. 4, direct lighting
+// only; emission at sh not included). The first iteration's weights are `start` when `hasStart`
+// (the PMC-IP feedback of sec. 6.1: weights adapted at this pixel in an earlier image-plane
+// iteration; the cone, which has no axis yet, left out and the floor applied), else a_cone = 0
+// and the others equal (sec. 5.2). `alphaOut` receives the weights adapted from the last
+// iteration (figure 7), `adapted` whether there was anything to adapt (false for a BSDF of delta
+// lobes only, which the BSDF component samples alone).
+vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPONENTS], bool hasStart,
+                   inout Sampler smp, inout uint rays, out float alphaOut[PMC_HI_MAX_COMPONENTS],
+                   out bool adapted) {
+    const uint m = PMC_HI_LIGHT + p.lightComponents;  // slots in use
+    const uint N = p.populationPerComponent * m;
+    adapted = bsdfHasNonDelta(sh.bsdf);
+
+    PmcHiKernel kern;
+    float startSum = 0.0;
+    for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) {
+        kern.alpha[k] = 0.0;
+        if (!adapted || k >= m || k == PMC_HI_CONE) continue;
+        kern.alpha[k] = hasStart ? max(start[k], p.alphaFloor) : 1.0;
+        startSum += kern.alpha[k];
+    }
+    for (uint k = 0u; k < m; ++k) kern.alpha[k] /= max(startSum, 1e-30);
+    if (!adapted) kern.alpha[PMC_HI_BSDF] = 1.0;
+    kern.coneAxis = sh.frame.n;
+    kern.coneOneMinusCos = 0.0;
+
+    vec3 total = vec3(0.0);
+    for (uint t = 0u; t < p.iterations; ++t) {
+        uint counts[PMC_HI_MAX_COMPONENTS];
+        pmcHiAllocate(kern.alpha, m, N, samplerGet1D(smp), counts);
+        vec3 sum = vec3(0.0);
+        float wSum[PMC_HI_MAX_COMPONENTS];
+        for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) wSum[k] = 0.0;
+        float wTotal = 0.0;
+        vec3 wDirection = vec3(0.0);
+        for (uint k = 0u; k < m; ++k) {
+            for (uint j = 0u; j < counts[k]; ++j) {
+                vec3 w, wi;
+                if (!pmcHiSample(sh, p, k, kern, smp, rays, w, wi)) continue;
+                float wl = max(luminance(w), 0.0);
+                if (!isFinite(wl)) continue;
+                sum += w;
+                wSum[k] += wl;
+                wTotal += wl;
+                wDirection += wl * wi;
+            }
+        }
+        // Eq. 1: this iteration's estimate.
+        total += sum / float(N);
+        if (!adapted) continue;
+
+        // Adapt (sec. 5.2). Without any weight there is nothing to learn: keep the kernel.
+        if (wTotal > 0.0) {
+            // Eq. 9: each component's share of the weight.
+            for (uint k = 0u; k < m; ++k) kern.alpha[k] = wSum[k] / wTotal;
+            // Cone axis: the weighted mean direction; half-angle beta: the weighted RMS angle
+            // about it in chord measure (2 sin(beta/2) = RMS |w_i - axis|), for which
+            // 1 - cos(beta) = 1 - |mean of w_i| exactly.
+            float len = length(wDirection / wTotal);
+            if (len > 0.0) {
+                kern.coneAxis = normalize(wDirection);
+                kern.coneOneMinusCos = max(1.0 - min(len, 1.0), 2.0 * sqr(sin(0.5 * PMC_HI_CONE_MIN_ANGLE)));
+            } else {
+                kern.coneOneMinusCos = 0.0;
+            }
+            if (t == 0u) {
+                // No cone samples yet: a_cone = coneInitial, the others scaled to make room.
+                for (uint k = 0u; k < m; ++k) kern.alpha[k] *= 1.0 - p.coneInitial;
+                kern.alpha[PMC_HI_CONE] = p.coneInitial;
+            }
+            if (kern.coneOneMinusCos <= 0.0) kern.alpha[PMC_HI_CONE] = 0.0;
+        }
+        // Defensive floor on the BSDF and light weights, then normalise.
+        float alphaSum = 0.0;
+        for (uint k = 0u; k < m; ++k) {
+            if (k != PMC_HI_CONE) kern.alpha[k] = max(kern.alpha[k], p.alphaFloor);
+            alphaSum += kern.alpha[k];
+        }
+        for (uint k = 0u; k < m; ++k) kern.alpha[k] /= alphaSum;
+    }
+    alphaOut = kern.alpha;
+    return total / float(p.iterations);
+}
+
+#endif
