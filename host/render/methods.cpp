@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "render/erpt_integrator.h"
+#include "render/pmc_hi.h"
 #include "render/pmc_ip_integrator.h"
 #include "render/pt_integrator.h"
 
@@ -19,6 +20,17 @@ std::vector<MethodOption> pmcIpOptions(bool direct) {
     };
     if (direct)
         options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});
+    return options;
+}
+
+std::vector<MethodOption> pmcIpHiOptions() {
+    std::vector<MethodOption> options = pmcIpOptions(false);
+    for (MethodOption& o : pmcHiMethodOptions()) {
+        // PMC-IP's --iterations counts image-plane iterations; PMC-HI's is per estimate.
+        if (o.name == "iterations") o.name = "hi-iterations";
+        options.push_back(o);
+    }
+    options.push_back({"feedback", "on", "seed each pixel's PMC-HI weights from its previous iteration (sec. 6.1)"});
     return options;
 }
 
@@ -40,8 +52,14 @@ const std::vector<MethodInfo>& methods() {
          pmcIpOptions(true),
          [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Direct); },
          ""},
-        {"pmc-hi", "PMC-HI adaptive direct lighting", true, {}, nullptr, "issue 6"},
-        {"pmc-ip-hi", "PMC-IP with PMC-HI feedback", true, {}, nullptr, "issue 6"},
+        {"pmc-hi", "PMC-HI adaptive direct lighting (mixture of BSDF, light and cone sampling)", true,
+         pmcHiMethodOptions(),
+         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::PmcHi); },
+         ""},
+        {"pmc-ip-hi", "PMC-IP adaptive image-plane sampling over PMC-HI direct lighting, with feedback",
+         true, pmcIpHiOptions(),
+         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::PmcHi); },
+         ""},
         {"erpt", "energy redistribution path tracing (equal deposition, lens and caustic perturbations)",
          true,
          {{"chain-length", "100", "mutations per chain, m"},

@@ -50,12 +50,18 @@ PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(
         if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
         m_lightSamples = uint32_t(n);
     }
+    if (estimator == Estimator::PmcHi) {
+        m_hi = parsePmcHiOptions(settings, "hi-iterations");
+        m_feedback = settings.optionBool("feedback", true);
+    }
 }
 
 RenderOutput PmcIp::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
-    const vk::Kernel& kernel = session.kernel(m_estimator == Estimator::Full ? "pt" : "direct");
+    const vk::Kernel& kernel = session.kernel(m_estimator == Estimator::Full     ? "pt"
+                                              : m_estimator == Estimator::Direct ? "direct"
+                                                                                 : "pmc_hi");
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
     ImagePlaneSampler sampler(film.width(), film.height(), m_options);
@@ -85,6 +91,27 @@ RenderOutput PmcIp::render(RenderSession& session) {
     work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
     work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
     work.bind(gpu::PT_BINDING_RESULTS, resultBuffer);
+
+    // PMC-HI feedback: the auxiliary image of starting weights (per pixel), each request's final
+    // weights, and this iteration's per-pixel sums of them (count last).
+    const bool pmcHi = m_estimator == Estimator::PmcHi;
+    gpu::PmcHiPush hiPush{};
+    vk::Buffer alphaStart, alphaOut;
+    std::vector<float> auxiliary, iterationSums, requestAlpha;
+    if (pmcHi) {
+        hiPush.hi = pmcHiParamsForScene(m_hi, session.scene());
+        if (m_feedback) hiPush.hi.flags |= gpu::PMC_HI_FLAG_FEEDBACK;
+        auxiliary.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+        iterationSums.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+        alphaStart = vk::Buffer(context, VkDeviceSize(pixels) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha");
+        alphaStart.fill(0);
+        alphaOut = vk::Buffer(context, VkDeviceSize(capacity) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi final alpha", vk::MemoryUsage::Readback);
+        work.bind(gpu::PMC_HI_BINDING_ALPHA, session.placeholder());
+        work.bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart);
+        work.bind(gpu::PMC_HI_BINDING_ALPHA_OUT, alphaOut);
+    }
 
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_LIST;
@@ -135,8 +162,14 @@ RenderOutput PmcIp::render(RenderSession& session) {
             const uint32_t n = uint32_t(requests.size());
             for (uint32_t offset = 0; offset < n; offset += units) {
                 push.requestOffset = offset;
+                push.recordOffset = offset;  // pmc_hi.comp: request i's final alpha at i
                 push.invocationCount = std::min(units, n - offset);
-                batch.dispatch(kernel, push, push.invocationCount);
+                if (pmcHi) {
+                    hiPush.pt = push;
+                    batch.dispatch(kernel, hiPush, push.invocationCount);
+                } else {
+                    batch.dispatch(kernel, push, push.invocationCount);
+                }
             }
             const uint32_t dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
             batch.submitAndWait();
@@ -148,6 +181,20 @@ RenderOutput PmcIp::render(RenderSession& session) {
             results.resize(n);
             resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
             for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, glm::vec3(results[k]));
+            if (pmcHi) {
+                // Each pixel's sum of its samples' final weights this iteration.
+                requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
+                alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
+                for (uint32_t k = 0; k < n; ++k) {
+                    const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
+                    float* sum = &iterationSums[size_t(requests[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
+                    float total = 0.0f;
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
+                    if (!(total > 0.0f)) continue;
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
+                    sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
+                }
+            }
 
             const double sppDone = double(sampler.samplesTaken()) / double(pixels);
             const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
@@ -157,6 +204,23 @@ RenderOutput PmcIp::render(RenderSession& session) {
             session.snapshotIfDue(sampler.samplesTaken(), resolve);
         }
         sampler.finishIteration();
+        if (pmcHi) {
+            // Sec. 6.1: the auxiliary image takes each sampled pixel's mean final weights and
+            // seeds the next iteration (pixels without an adapted estimate keep theirs).
+            std::vector<float> start(size_t(pixels) * gpu::PMC_HI_MAX_COMPONENTS);
+            for (uint32_t p = 0; p < pixels; ++p) {
+                float* sum = &iterationSums[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+                float* aux = &auxiliary[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+                const float count = sum[gpu::PMC_HI_MAX_COMPONENTS];
+                if (count > 0.0f) {
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) aux[c] = sum[c] / count;
+                    aux[gpu::PMC_HI_MAX_COMPONENTS] = 1.0f;
+                }
+                std::copy(aux, aux + gpu::PMC_HI_MAX_COMPONENTS, &start[size_t(p) * gpu::PMC_HI_MAX_COMPONENTS]);
+                std::fill(sum, sum + gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+            }
+            if (m_feedback) alphaStart.upload(start);
+        }
         session.snapshotIfDue(sampler.samplesTaken(), resolve);
     }
     session.progress().finish();
@@ -174,6 +238,11 @@ RenderOutput PmcIp::render(RenderSession& session) {
     out.methodStats["epsilon"] = m_options.epsilon;
     out.methodStats["min_spp"] = m_options.minSamples;
     if (m_estimator == Estimator::Direct) out.methodStats["light_samples"] = m_lightSamples;
+    if (pmcHi) {
+        // The figure 7 maps from the auxiliary image after the last iteration.
+        addPmcHiOutputs(out, hiPush.hi, session.scene(), auxiliary, film.width(), film.height());
+        out.methodStats["feedback"] = m_feedback;
+    }
     uint32_t maxCount = 0;
     for (float c : sampler.sampleCountImage().rgb) maxCount = std::max(maxCount, uint32_t(c));
     out.methodStats["max_samples_in_a_pixel"] = maxCount;

@@ -9,16 +9,22 @@
 // Budget: the first iteration takes `--initial-spp` uniformly, each later one `--spp-per-iteration`
 // on average; `--iterations` adaptive iterations, or as many as `--spp` allows (average samples
 // per pixel in total), or as many as fit in `--time`. Options and defaults: render/methods.cpp.
+//
+// `pmc-ip-hi` traces its samples with PMC-HI adaptive direct lighting (shaders/pmc_hi.comp) and
+// feeds back (sec. 6.1): after each image-plane iteration, each pixel's mean of the final alpha
+// of its samples' first-hit estimates goes into an auxiliary image, which seeds the PMC-HI
+// weights of the pixel's samples in the next iteration.
 #pragma once
 
 #include "render/image_plane_sampler.h"
 #include "render/integrator.h"
+#include "render/pmc_hi.h"
 
 namespace pmcr {
 
 class PmcIp : public Integrator {
 public:
-    enum class Estimator { Full, Direct };
+    enum class Estimator { Full, Direct, PmcHi };
     PmcIp(const RenderSettings& settings, Estimator estimator);
     RenderOutput render(RenderSession& session) override;
 
@@ -29,6 +35,8 @@ private:
     ImagePlaneOptions m_options;
     uint32_t m_iterations = 0;  // adaptive iterations after the first; 0: from --spp or --time
     uint32_t m_lightSamples = 1;
+    PmcHiOptions m_hi;
+    bool m_feedback = true;
 };
 
 }  // namespace pmcr

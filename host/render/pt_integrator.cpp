@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "render/pmc_hi.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -17,17 +18,36 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
         if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
         m_lightSamples = uint32_t(n);
     }
+    if (mode == Mode::PmcHi) m_hi = parsePmcHiOptions(settings);
 }
 
 RenderOutput PathTracer::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
-    const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full ? "pt" : "direct");
+    const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full     ? "pt"
+                                              : m_mode == Mode::Direct ? "direct"
+                                                                       : "pmc_hi");
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     work.bind(gpu::PT_BINDING_FILM, film.pixels());
     work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
     work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
     work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+
+    // PMC-HI: its parameters for this scene, and the per-pixel sums of the adapted alpha.
+    gpu::PmcHiPush hiPush{};
+    vk::Buffer alphaSums;
+    if (m_mode == Mode::PmcHi) {
+        hiPush.hi = pmcHiParamsForScene(m_hi, session.scene());
+        hiPush.hi.flags |= gpu::PMC_HI_FLAG_RECORD_ALPHA;
+        alphaSums = vk::Buffer(session.context(),
+                               VkDeviceSize(film.pixelCount()) * gpu::PMC_HI_ALPHA_STRIDE * sizeof(float),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               "pmc-hi alpha sums");
+        alphaSums.fill(0);
+        work.bind(gpu::PMC_HI_BINDING_ALPHA, alphaSums);
+        work.bind(gpu::PMC_HI_BINDING_ALPHA_START, session.placeholder());
+        work.bind(gpu::PMC_HI_BINDING_ALPHA_OUT, session.placeholder());
+    }
 
     const uint32_t pixels = film.pixelCount();
     // Without a sample count, a time limit alone decides when to stop.
@@ -64,7 +84,12 @@ RenderOutput PathTracer::render(RenderSession& session) {
             push.pixelOffset = offset;
             push.invocationCount = count;
             push.sampleBase = pass;
-            batch.dispatch(kernel, push, count);
+            if (m_mode == Mode::PmcHi) {
+                hiPush.pt = push;
+                batch.dispatch(kernel, hiPush, count);
+            } else {
+                batch.dispatch(kernel, push, count);
+            }
             batchSamples += count;
             offset += count;
             if (offset == pixels) {
@@ -97,6 +122,10 @@ RenderOutput PathTracer::render(RenderSession& session) {
     out.samplesPerPixel = double(samples) / double(pixels);
     out.methodStats["passes_completed"] = pass;
     if (m_mode == Mode::Direct) out.methodStats["light_samples"] = m_lightSamples;
+    if (m_mode == Mode::PmcHi)
+        addPmcHiOutputs(out, hiPush.hi, session.scene(),
+                        alphaSums.download<float>(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE),
+                        film.width(), film.height());
     return out;
 }
 

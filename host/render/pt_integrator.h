@@ -2,15 +2,18 @@
 // pixel, each pass split into dispatches over pixel ranges. One writer per pixel per dispatch
 // and one sample per pixel per pass make the film sums independent of how the passes are split,
 // so a fixed seed and sample count give the same image bit for bit on a given device.
+// `pmc-hi` is the same loop with PMC-HI adaptive direct lighting (shaders/pmc_hi.comp) in place
+// of MIS direct lighting.
 #pragma once
 
 #include "render/integrator.h"
+#include "render/pmc_hi.h"
 
 namespace pmcr {
 
 class PathTracer : public Integrator {
 public:
-    enum class Mode { Full, Direct };
+    enum class Mode { Full, Direct, PmcHi };
     PathTracer(const RenderSettings& settings, Mode mode);
     RenderOutput render(RenderSession& session) override;
 
@@ -19,6 +22,7 @@ public:
 private:
     Mode m_mode;
     uint32_t m_lightSamples;
+    PmcHiOptions m_hi;
 };
 
 }  // namespace pmcr

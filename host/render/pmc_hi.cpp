@@ -1,0 +1,84 @@
+#include "render/pmc_hi.h"
+
+#include <string>
+
+#include "core/error.h"
+
+namespace pmcr {
+
+std::vector<MethodOption> pmcHiMethodOptions() {
+    return {
+        {"population-per-component", "2", "population N = this x components (BSDF, lights, cone)"},
+        {"iterations", "2", "PMC iterations per direct-lighting estimate"},
+        {"cone-initial", "0.2", "cone weight after the first iteration (the others scaled by 1 - it)"},
+        {"max-light-components", "4", "one component per light up to this many lights, else one for all"},
+        {"alpha-floor", "0.05", "defensive floor of the BSDF and light weights (keeps it unbiased)"},
+        {"rao-blackwell", "on",
+         "weights f / K with the full mixture; off: f / h_k of the sample's own component (sec. 7), "
+         "which misses the light outside a component's support",
+         true},
+    };
+}
+
+PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string& iterationsOption) {
+    PmcHiOptions o;
+    const int population = settings.optionInt("population-per-component", 2);
+    if (population < 1 || population > int(gpu::PMC_HI_MAX_POPULATION_PER_COMPONENT))
+        throw Error("--population-per-component: expected 1.." +
+                    std::to_string(gpu::PMC_HI_MAX_POPULATION_PER_COMPONENT));
+    const int iterations = settings.optionInt(iterationsOption, 2);
+    if (iterations < 1 || iterations > int(gpu::PMC_HI_MAX_ITERATIONS))
+        throw Error("--" + iterationsOption + ": expected 1.." + std::to_string(gpu::PMC_HI_MAX_ITERATIONS));
+    const double cone = settings.optionDouble("cone-initial", 0.2);
+    if (!(cone >= 0.0 && cone < 1.0)) throw Error("--cone-initial: expected 0 <= value < 1");
+    const double floor = settings.optionDouble("alpha-floor", 0.05);
+    if (!(floor > 0.0 && floor <= 0.5)) throw Error("--alpha-floor: expected 0 < value <= 0.5");
+    const int maxLights = settings.optionInt("max-light-components", 4);
+    if (maxLights < 1 || maxLights > int(gpu::PMC_HI_MAX_LIGHTS))
+        throw Error("--max-light-components: expected 1.." + std::to_string(gpu::PMC_HI_MAX_LIGHTS));
+    o.params.populationPerComponent = uint32_t(population);
+    o.params.iterations = uint32_t(iterations);
+    o.params.coneInitial = float(cone);
+    o.params.alphaFloor = float(floor);
+    o.params.flags = settings.optionBool("rao-blackwell", true) ? gpu::PMC_HI_FLAG_RAO_BLACKWELL : 0u;
+    o.maxLightComponents = uint32_t(maxLights);
+    return o;
+}
+
+gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene) {
+    gpu::PmcHiParams p = options.params;
+    const uint32_t lights = uint32_t(scene.lightGroups().lights.size());
+    p.sharedLight = lights > options.maxLightComponents ? 1u : 0u;
+    p.lightComponents = p.sharedLight ? 1u : lights;
+    return p;
+}
+
+void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const GpuScene& scene,
+                     const std::vector<float>& alphaSums, int width, int height) {
+    const uint32_t components = gpu::PMC_HI_LIGHT + params.lightComponents;
+    out.methodStats["lights"] = scene.lightGroups().lights.size();
+    out.methodStats["light_components"] = params.lightComponents;
+    out.methodStats["shared_light_component"] = params.sharedLight;
+    out.methodStats["population"] = params.populationPerComponent * components;
+    out.methodStats["pmc_hi_iterations"] = params.iterations;
+    out.methodStats["samples_per_estimate"] = params.populationPerComponent * components * params.iterations;
+    out.methodStats["rao_blackwell"] = (params.flags & gpu::PMC_HI_FLAG_RAO_BLACKWELL) != 0u;
+
+    auto map = [&](uint32_t slot) {
+        Image image(width, height);
+        for (int p = 0; p < width * height; ++p) {
+            const float* a = &alphaSums[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+            const float count = a[gpu::PMC_HI_MAX_COMPONENTS];
+            image.set(p % width, p / width, glm::vec3(count > 0.0f ? a[slot] / count : 0.0f));
+        }
+        return image;
+    };
+    out.diagnostics.emplace_back("alpha-brdf", map(gpu::PMC_HI_BSDF));
+    for (uint32_t l = 0; l < params.lightComponents; ++l)
+        out.diagnostics.emplace_back(params.sharedLight ? std::string("alpha-light")
+                                                        : "alpha-light" + std::to_string(l),
+                                     map(gpu::PMC_HI_LIGHT + l));
+    out.diagnostics.emplace_back("alpha-cone", map(gpu::PMC_HI_CONE));
+}
+
+}  // namespace pmcr

@@ -1,0 +1,173 @@
+// PMC-HI (pmc-hi, and pmc-ip-hi with and without feedback) is unbiased: its mean image equals MIS direct lighting's pixel by pixel, with
+// one light component per light, with one shared by all, and where delta BSDFs (glass, mirror)
+// are sampled by the BSDF component alone; the furnace gives its analytic answer; a seed gives
+// the same image bit for bit. The shader tests (tests/gpu/test_pmc_hi.cpp) check the mixture.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "gpu_test.h"
+#include "render_test.h"
+#include "statistics.h"
+
+namespace pmcr::test {
+namespace {
+
+class PmcHiTest : public GpuTest {};
+
+RenderSettings pmcHiSettings(int size, uint32_t spp) {
+    RenderSettings s;
+    s.method = "pmc-hi";
+    s.width = size;
+    s.height = size;
+    s.spp = spp;
+    s.maxDepth = 1;
+    return s;
+}
+
+TEST_F(PmcHiTest, SameSeedSameImageBitForBit) {
+    const Scene& scene = testScene("scenes/checkers-two-lights.glb");
+    RenderSettings s = pmcHiSettings(16, 2);
+    auto a = renderForTest(scene, s);
+    auto b = renderForTest(scene, s);
+    EXPECT_EQ(a.output.image.rgb, b.output.image.rgb);
+    EXPECT_EQ(a.output.cameraSamples, 16u * 16u * 2u);
+    const auto& stats = a.stats["method_stats"];
+    EXPECT_EQ(stats["lights"].get<int>(), 2);
+    EXPECT_EQ(stats["light_components"].get<int>(), 2);
+    EXPECT_EQ(stats["population"].get<int>(), 8);  // 2 x (BSDF, two lights, cone)
+    EXPECT_EQ(stats["samples_per_estimate"].get<int>(), 16);
+    // The figure 7 maps: one per light, BSDF and cone; the weights sum to 1 where estimated.
+    ASSERT_EQ(a.output.diagnostics.size(), 4u);
+    EXPECT_EQ(a.output.diagnostics[0].first, "alpha-brdf");
+    EXPECT_EQ(a.output.diagnostics[1].first, "alpha-light0");
+    EXPECT_EQ(a.output.diagnostics[2].first, "alpha-light1");
+    EXPECT_EQ(a.output.diagnostics[3].first, "alpha-cone");
+    int estimated = 0;
+    for (size_t p = 0; p < a.output.image.pixelCount(); ++p) {
+        double sum = 0.0;
+        for (const auto& d : a.output.diagnostics)
+            sum += d.second.rgb[3 * p];
+        if (sum > 0.0) {
+            ++estimated;
+            EXPECT_NEAR(sum, 1.0, 1e-4) << "pixel " << p;
+        }
+    }
+    EXPECT_GT(estimated, 0);
+}
+
+TEST_F(PmcHiTest, FurnaceGivesItsAnalyticValue) {
+    double sum = 0.0, sumSq = 0.0;
+    const int renders = 4;
+    for (int i = 0; i < renders; ++i) {
+        RenderSettings s = pmcHiSettings(16, 4);
+        s.seed = 11 + uint32_t(i);
+        const double m = imageMean(renderForTest(testScene("scenes/furnace.glb"), s).output.image).y;
+        sum += m;
+        sumSq += m * m;
+    }
+    const double mean = sum / renders;
+    const double stderr = std::sqrt(std::max(0.0, sumSq / renders - mean * mean) / (renders - 1));
+    // Emission seen directly plus one bounce of a Kd 0.5 surface: 1 - 0.5^2.
+    EXPECT_NEAR(mean, 0.75, 5.0 * stderr + 2e-3) << "standard error " << stderr;
+}
+
+// Independent MIS direct-lighting renders of a scene at a size, rendered once per test binary.
+const ImageMoments& baseline(const std::string& scenePath, const RenderSettings& like) {
+    static std::map<std::string, ImageMoments> cache;
+    const std::string key = scenePath + "@" + std::to_string(like.width);
+    auto it = cache.find(key);
+    if (it != cache.end()) return it->second;
+    RenderSettings base = like;
+    base.method = "direct";
+    base.options = {{"light-samples", "4"}};
+    base.spp = 32;
+    ImageMoments b;
+    for (int i = 0; i < 8; ++i) {
+        base.seed = 8000 + uint32_t(i);
+        b.add(renderForTest(testScene(scenePath), base).output.image.rgb);
+    }
+    return cache.emplace(key, b).first->second;
+}
+
+// The mean of independent PMC-HI renders against independent MIS direct-lighting renders, per
+// pixel (Sidak-corrected z-test, at least 99.75% of pixels pass).
+PixelTestResult zTest(const std::string& scenePath, RenderSettings method, int renders) {
+    const Scene& scene = testScene(scenePath);
+    ImageMoments m;
+    for (int i = 0; i < renders; ++i) {
+        method.seed = 3000 + uint32_t(i);
+        m.add(renderForTest(scene, method).output.image.rgb);
+    }
+    const ImageMoments& b = baseline(scenePath, method);
+    return pixelZTest(m.mean(), m.variance(), renders, b.mean(), b.variance(), b.count());
+}
+
+void expectUnbiased(const std::string& scenePath, const RenderSettings& method, int renders) {
+    const auto result = zTest(scenePath, method, renders);
+    EXPECT_GE(result.passFraction, 0.9975) << result.describe();
+}
+
+TEST_F(PmcHiTest, UnbiasedWithOneComponentPerLight) {
+    expectUnbiased("scenes/checkers-two-lights.glb", pmcHiSettings(24, 4), 32);
+}
+
+TEST_F(PmcHiTest, UnbiasedWithOneSharedLightComponent) {
+    RenderSettings s = pmcHiSettings(24, 4);
+    s.options["max-light-components"] = "1";
+    s.options["iterations"] = "3";
+    expectUnbiased("scenes/checkers-two-lights.glb", s, 32);
+}
+
+// The per-component variant (sec. 7: w = f / h_k of the sample's own component) estimates
+// sum_k alpha_k int_{supp h_k} f: a light component sees only its light, the cone only the
+// cone, so with two lights it is biased low, and the z-test sees it (which also shows the test
+// has the power to see such a bias).
+TEST_F(PmcHiTest, PerComponentVariantIsBiased) {
+    RenderSettings s = pmcHiSettings(24, 4);
+    s.options["rao-blackwell"] = "off";
+    const auto result = zTest("scenes/checkers-two-lights.glb", s, 32);
+    EXPECT_LT(result.passFraction, 0.9975) << result.describe();
+}
+
+TEST_F(PmcHiTest, UnbiasedWithDeltaBsdfs) {
+    expectUnbiased("scenes/cornell-glass.glb", pmcHiSettings(24, 4), 32);
+}
+
+// pmc-ip-hi: PMC-IP over PMC-HI, each pixel's PMC-HI weights seeded from its previous
+// image-plane iteration (sec. 6.1), and without that feedback.
+RenderSettings pmcIpHiSettings(int size, uint32_t spp, bool feedback) {
+    RenderSettings s = pmcHiSettings(size, spp);
+    s.method = "pmc-ip-hi";
+    s.options["initial-spp"] = "2";
+    s.options["spp-per-iteration"] = "1";
+    s.options["feedback"] = feedback ? "on" : "off";
+    return s;
+}
+
+TEST_F(PmcHiTest, FeedbackSameSeedSameImageAndAlphaMaps) {
+    const Scene& scene = testScene("scenes/checkers-two-lights.glb");
+    RenderSettings s = pmcIpHiSettings(16, 4, true);
+    auto a = renderForTest(scene, s);
+    auto b = renderForTest(scene, s);
+    EXPECT_EQ(a.output.image.rgb, b.output.image.rgb);
+    EXPECT_EQ(a.stats["method_stats"]["iterations_completed"].get<int>(), 3);
+    EXPECT_TRUE(a.stats["method_stats"]["feedback"].get<bool>());
+    // PMC-IP's alpha, samples and variance, then the PMC-HI maps.
+    ASSERT_EQ(a.output.diagnostics.size(), 7u);
+    EXPECT_EQ(a.output.diagnostics[3].first, "alpha-brdf");
+    EXPECT_EQ(a.output.diagnostics[6].first, "alpha-cone");
+}
+
+TEST_F(PmcHiTest, UnbiasedWithFeedback) {
+    expectUnbiased("scenes/checkers-two-lights.glb", pmcIpHiSettings(24, 4, true), 32);
+}
+
+TEST_F(PmcHiTest, UnbiasedWithoutFeedback) {
+    expectUnbiased("scenes/checkers-two-lights.glb", pmcIpHiSettings(24, 4, false), 32);
+}
+
+}  // namespace
+}  // namespace pmcr::test
