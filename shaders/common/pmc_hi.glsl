@@ -254,6 +254,7 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
 
         // Adapt (sec. 5.2). Without any weight there is nothing to learn: keep the kernel.
         if (wTotal > 0.0) {
+            const bool hadCone = kern.coneOneMinusCos > 0.0;
             // Eq. 9: each component's share of the weight.
             for (uint k = 0u; k < m; ++k) kern.alpha[k] = wSum[k] / wTotal;
             // Cone axis: the weighted mean direction; half-angle beta: the weighted RMS angle
@@ -266,8 +267,9 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
             } else {
                 kern.coneOneMinusCos = 0.0;
             }
-            if (t == 0u) {
-                // No cone samples yet: a_cone = coneInitial, the others scaled to make room.
+            if (!hadCone && kern.coneOneMinusCos > 0.0) {
+                // The cone's first axis (after iteration 0 unless every weight was 0): it has
+                // no samples yet, so a_cone = coneInitial and the others make room.
                 for (uint k = 0u; k < m; ++k) kern.alpha[k] *= 1.0 - p.coneInitial;
                 kern.alpha[PMC_HI_CONE] = p.coneInitial;
             }
