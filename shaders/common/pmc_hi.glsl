@@ -18,10 +18,10 @@
 //
 // Densities are those of the sampled direction: a light component's density of w is its area
 // density at the first surface the ray from x along w hits, converted to solid angle, when that
-// surface is one of its emitters. A light-sampled direction whose first hit is not (up to
-// rounding) the sampled point is scored 0 -- occluded, or a point behind another part of a
-// non-convex light -- so the density of the directions that score is exactly that first-hit
-// density.
+// surface is one of its emitters. A light-sampled direction is traced as a shadow ray to the
+// sampled point and scores 0 unless it is visible -- so a point behind another part of a
+// non-convex light scores 0 too, and the density of the directions that score is exactly that
+// first-hit density.
 #ifndef PMCR_PMC_HI_GLSL
 #define PMCR_PMC_HI_GLSL
 
@@ -112,7 +112,8 @@ struct PmcHiDraw {
     vec3 fr;               // f_r |cos| for wi (a delta lobe: its weight, bs.f |cos|)
     float pdfBsdf;         // BSDF density of wi (a delta lobe: its discrete probability)
     bool delta;            // drawn by a delta lobe of the BSDF
-    float lightDistance;   // drawn by a light: distance to the sampled point; else -1
+    bool fromLight;        // drawn by a light component: `lightPoint` is the sampled point
+    SurfacePoint lightPoint;
 };
 
 // Draws a direction from component k of `kern`; false when no direction results (the sample
@@ -123,7 +124,13 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
     d.fr = vec3(0.0);
     d.pdfBsdf = 0.0;
     d.delta = false;
-    d.lightDistance = -1.0;
+    d.fromLight = false;
+    d.lightPoint.position = vec3(0.0);
+    d.lightPoint.normal = vec3(0.0, 0.0, 1.0);
+    d.lightPoint.shadingNormal = vec3(0.0, 0.0, 1.0);
+    d.lightPoint.uv = vec2(0.0);
+    d.lightPoint.triangle = 0u;
+    d.lightPoint.material = 0u;
     if (k == PMC_HI_BSDF) {
         BsdfSample bs;
         if (!shadingSample(sh, u1, u2, bs, d.wi)) return false;
@@ -139,9 +146,11 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
         LightSample ls = p.sharedLight != 0u ? sampleLight(u1, u2)
                                              : sampleLightGroup(k - PMC_HI_LIGHT, u1, u2);
         vec3 toLight = ls.point.position - sh.surface.position;
-        d.lightDistance = length(toLight);
-        if (!(d.lightDistance > 0.0)) return false;
-        d.wi = toLight / d.lightDistance;
+        float distance = length(toLight);
+        if (!(distance > 0.0)) return false;
+        d.wi = toLight / distance;
+        d.fromLight = true;
+        d.lightPoint = ls.point;
     }
     float absCos;
     d.fr = shadingEval(sh, d.wi, d.pdfBsdf, absCos) * absCos;
@@ -179,12 +188,18 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, inout
     if (!drawn) return false;
     if (maxComponent(d.fr) <= 0.0) return true;
 
-    // One closest-hit ray: what the direction sees.
-    Hit hit;
-    rays += 1u;
-    if (!traceClosest(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX, hit)) return true;
-    if (d.lightDistance >= 0.0 && abs(hit.t - d.lightDistance) > 1e-3 * d.lightDistance) return true;
-    SurfacePoint l = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    // One ray: what the direction sees. For a light-sampled direction, the sampled point when
+    // nothing is in between (a shadow ray, cheaper than a closest hit); otherwise it scores 0.
+    SurfacePoint l;
+    if (d.fromLight) {
+        if (!visible(sh, d.lightPoint, rays)) return true;
+        l = d.lightPoint;
+    } else {
+        Hit hit;
+        rays += 1u;
+        if (!traceClosest(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX, hit)) return true;
+        l = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    }
     vec3 Le = emittedRadiance(l, -d.wi);
     if (maxComponent(Le) <= 0.0) return true;
     vec3 f = d.fr * Le;
