@@ -103,10 +103,19 @@ RenderOutput PmcIp::render(RenderSession& session) {
     vk::CommandBatch batch(session.layout(), &session.timer());
     auto resolve = [&] { return sampler.image(); };
 
+    // Host time spent adapting (alpha, DMS) and reducing results, to weigh against the GPU's.
+    double adaptSeconds = 0.0;
+    double reduceSeconds = 0.0;
+    auto since = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+
     session.startClock();
     uint64_t iteration = 0;
     for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
+        const auto adaptStart = std::chrono::steady_clock::now();
         const std::vector<uint32_t>& counts = sampler.allocate(uniform(rng));
+        adaptSeconds += since(adaptStart);
         push.seed = iterationSeed(settings.seed, uint32_t(iteration));
         // Walk the pixels in order, each pixel's samples 0..n-1 of its sequence.
         uint32_t pixel = 0;
@@ -145,9 +154,11 @@ RenderOutput PmcIp::render(RenderSession& session) {
             sizer.record(n / dispatches, seconds / dispatches);
             film.addCounters(session.counters());
             // Reduce in request order: the same seed gives the same sums.
+            const auto reduceStart = std::chrono::steady_clock::now();
             results.resize(n);
             resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
             for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, glm::vec3(results[k]));
+            reduceSeconds += since(reduceStart);
 
             const double sppDone = double(sampler.samplesTaken()) / double(pixels);
             const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
@@ -156,7 +167,9 @@ RenderOutput PmcIp::render(RenderSession& session) {
             session.progress().update(fraction, sppDone, "spp");
             session.snapshotIfDue(sampler.samplesTaken(), resolve);
         }
+        const auto finishStart = std::chrono::steady_clock::now();
         sampler.finishIteration();
+        adaptSeconds += since(finishStart);
         session.snapshotIfDue(sampler.samplesTaken(), resolve);
     }
     session.progress().finish();
@@ -170,6 +183,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
     out.diagnostics.emplace_back("variance", sampler.varianceImage());
     out.methodStats["iterations_completed"] = sampler.iteration();
     out.methodStats["initial_spp"] = m_options.initialSpp;
+    out.methodStats["host_adapt_seconds"] = adaptSeconds;
+    out.methodStats["host_reduce_seconds"] = reduceSeconds;
     out.methodStats["spp_per_iteration"] = m_options.samplesPerIteration;
     out.methodStats["epsilon"] = m_options.epsilon;
     out.methodStats["min_spp"] = m_options.minSamples;
