@@ -157,7 +157,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
             const auto reduceStart = std::chrono::steady_clock::now();
             results.resize(n);
             resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
-            for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, glm::vec3(results[k]));
+            for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, requests[k].sampleIndex, glm::vec3(results[k]));
             reduceSeconds += since(reduceStart);
 
             const double sppDone = double(sampler.samplesTaken()) / double(pixels);
@@ -167,9 +167,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
             session.progress().update(fraction, sppDone, "spp");
             session.snapshotIfDue(sampler.samplesTaken(), resolve);
         }
-        const auto finishStart = std::chrono::steady_clock::now();
         sampler.finishIteration();
-        adaptSeconds += since(finishStart);
         session.snapshotIfDue(sampler.samplesTaken(), resolve);
     }
     session.progress().finish();
