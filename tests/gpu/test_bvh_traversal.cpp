@@ -188,5 +188,14 @@ TEST_F(BvhTraversal, DefaultSceneMatchesHost) {
     expectMatchesHost(scene, randomRays(scene, 20000, 9), 0.0);
 }
 
+// The largest scene (about 200k triangles, a deep BVH): the longest traversals pmcr runs. On
+// lavapipe a traversal cut short by Mesa's loop budget (tests/gpu/test_loop_limits.cpp) would
+// show up here as a GPU miss or a farther hit.
+TEST_F(BvhTraversal, DragonMatchesHost) {
+    const Scene scene = loadScene(sourcePath("scenes/dragon-direct.gltf"));
+    ASSERT_GT(scene.triangles.size(), 200000u);
+    expectMatchesHost(scene, randomRays(scene, 20000, 13), 0.0);
+}
+
 }  // namespace
 }  // namespace pmcr::test
