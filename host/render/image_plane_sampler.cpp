@@ -31,12 +31,14 @@ void systematicResidual(const std::vector<double>& fraction, double u, double sc
     if (exactExtra && picked < *exactExtra) counts[lastWithFraction] += uint32_t(*exactExtra - picked);
 }
 
-// The mean of v over the 8 neighbours of (x, y) inside the image, and how many there are.
-std::pair<double, int> neighbourMean(const std::vector<double>& v, int width, int height, int x, int y) {
+// The mean of v over the neighbours of (x, y) within `radius` (a square, the pixel itself
+// excluded) inside the image, and how many there are.
+std::pair<double, int> neighbourMean(const std::vector<double>& v, int width, int height, int x, int y,
+                                     int radius) {
     double sum = 0.0;
     int n = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
             const int nx = x + dx, ny = y + dy;
             if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
             sum += v[size_t(ny) * width + nx];
@@ -54,7 +56,7 @@ double sampleVariance(double sum, double sumSq, double n) {
 }  // namespace
 
 std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int width, int height,
-                                            double epsilon) {
+                                            double epsilon, int radius) {
     const size_t pixels = size_t(width) * size_t(height);
     // a_j = mean of v over j's neighbours, alpha'_j = sqrt(a_j), Z = sum alpha'.
     std::vector<double> mean(pixels), count(pixels), alphaPrime(pixels);
@@ -62,7 +64,7 @@ std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int wi
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const size_t j = size_t(y) * width + x;
-            const auto [m, n] = neighbourMean(v, width, height, x, y);
+            const auto [m, n] = neighbourMean(v, width, height, x, y, radius);
             mean[j] = m;
             count[j] = n;
             alphaPrime[j] = std::sqrt(std::max(0.0, m));
@@ -74,8 +76,8 @@ std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int wi
             const size_t i = size_t(y) * width + x;
             // Z_-i: the neighbours j of i (those whose means include v_i) without v_i.
             double zWithout = z;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
+            for (int dy = -radius; dy <= radius; ++dy)
+                for (int dx = -radius; dx <= radius; ++dx) {
                     const int nx = x + dx, ny = y + dy;
                     if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
                     const size_t j = size_t(ny) * width + nx;
@@ -137,6 +139,7 @@ ImagePlaneSampler::ImagePlaneSampler(int width, int height, const ImagePlaneOpti
     : m_width(width), m_height(height), m_options(options) {
     const size_t n = size_t(width) * size_t(height);
     if (options.initialSpp < 2) throw Error("PMC-IP: the first iteration needs at least 2 spp");
+    if (options.radius < 1) throw Error("PMC-IP: the variance neighbourhood needs a radius of at least 1");
     if (!(options.samplesPerIteration >= double(options.minSamples)) || !(options.samplesPerIteration > 0.0))
         throw Error("PMC-IP: samples per iteration below the per-pixel minimum");
     m_alpha.assign(n, 1.0 / double(n));
@@ -166,7 +169,8 @@ const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u) {
         m_allocated.assign(n, m_options.initialSpp);
         return m_allocated;
     }
-    m_alpha = neighbourMixtureWeights(pilotPerceptualVariance(), m_width, m_height, m_options.epsilon);
+    m_alpha = neighbourMixtureWeights(pilotPerceptualVariance(), m_width, m_height, m_options.epsilon,
+                                     m_options.radius);
     // N = samplesPerIteration * P: minSamples pilot samples per pixel, the rest by alpha.
     const double adaptive = (m_options.samplesPerIteration - double(m_options.minSamples)) * double(n);
     std::vector<double> expected(n);

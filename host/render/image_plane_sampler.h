@@ -27,7 +27,7 @@
 // fixed in advance:
 //   v_kl       = s^2_kl / tvi(L_kl)   pilot sample variance of pixel kl over the threshold at its
 //                                     pilot mean luminance (Ferwerda et al. 1996),
-//   alpha'_ij  = sqrt(mean of v_kl over the 8 neighbours kl of ij, ij itself excluded),
+//   alpha'_ij  = sqrt(mean of v_kl over the neighbours kl of ij within `radius`, ij excluded),
 //   alpha_ij   = epsilon / P + (1 - epsilon) alpha'_ij / Z_-ij,
 // with Z_-ij the sum of all alpha' computed as if pixel ij had no pilot data (v_ij = 0), so that
 // neither the weight nor its normalisation depends on pixel ij's samples. The residual pass's
@@ -37,7 +37,10 @@
 // sum sigma^2 / (n tvi) for a fixed budget (a Lagrange multiplier argument); the paper's
 // sigma-bar^2 = sigma^2 / n reaches the same end by iterating, which needs each pixel's own count.
 // Variance is spatially coherent (edges, caustics and soft shadows span several pixels), so the
-// neighbours predict it well; an isolated noisy pixel gets its neighbours' share only.
+// neighbours predict it well; an isolated noisy pixel gets its neighbours' share only. The
+// default 5x5 neighbourhood (radius 2) also averages out the isolated fireflies of a few pilot
+// samples, which with 8 neighbours left rings of wasted samples around each firefly: what is
+// smooth over the image is the rate of fireflies, not where the first few landed.
 #pragma once
 
 #include <cstdint>
@@ -51,12 +54,12 @@ namespace pmcr {
 
 // The mixture weights of a width x height image from each pixel's perceptual pilot variance v
 // (see above): alpha = epsilon / P + (1 - epsilon) alpha' / Z_-ij, alpha' = sqrt of the mean of
-// v over the 8 neighbours, Z_-ij = sum of alpha' with v_ij set to 0. Each weight is at least
+// v over the neighbours within `radius` (the 8 around the pixel for radius 1), Z_-ij = sum of alpha' with v_ij set to 0. Each weight is at least
 // epsilon / P (the paper's defensive term, Hesterberg 1995) and depends on no v_ij of its own
 // pixel; the weights sum to 1 up to the leave-one-out normalisation (exactly 1 when v is 0
 // everywhere: the uniform mixture).
 std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int width, int height,
-                                            double epsilon);
+                                            double epsilon, int radius = 1);
 
 // Deterministic mixture sampling of expected counts: floor(n'_k) for component k, then one
 // systematic pass with offset u in [0,1) over the fractions n'_k - floor(n'_k): component k gets
@@ -82,6 +85,7 @@ struct ImagePlaneOptions {
     double epsilon = 0.01;             // the defensive weight of the uniform component
     uint32_t minSamples = 1;           // pilot samples every pixel gets in every adaptive iteration
     double displayWhite = 100.0;       // cd/m^2 that pixel luminance 1 stands for (tvi)
+    int radius = 2;                    // neighbourhood: (2 radius + 1)^2 - 1 pixels
 };
 
 class ImagePlaneSampler {

@@ -42,6 +42,8 @@ PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(
     if (minSamples < 0 || double(minSamples) > m_options.samplesPerIteration)
         throw Error("--min-spp: expected 0..spp-per-iteration");
     m_options.minSamples = uint32_t(minSamples);
+    m_options.radius = settings.optionInt("variance-radius", 2);
+    if (m_options.radius < 1 || m_options.radius > 16) throw Error("--variance-radius: expected 1..16 pixels");
     const int iterations = settings.optionInt("iterations", 0);
     if (iterations < 0) throw Error("--iterations: expected a count (0 = from --spp or --time)");
     m_iterations = uint32_t(iterations);

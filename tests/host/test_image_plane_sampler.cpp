@@ -49,15 +49,18 @@ TEST(MixtureWeights, APixelsWeightIgnoresItsOwnVariance) {
     std::mt19937_64 rng(5);
     const int w = 17, h = 9;
     std::vector<double> v = randomWeights(rng, size_t(w * h), 2.0);
-    const auto before = neighbourMixtureWeights(v, w, h, 0.01);
-    for (int i : {0, 5, 17 * 4 + 8, w * h - 1}) {
-        std::vector<double> changed = v;
-        changed[size_t(i)] = 1000.0 * (v[size_t(i)] + 1.0);
-        const auto after = neighbourMixtureWeights(changed, w, h, 0.01);
-        EXPECT_NEAR(after[size_t(i)], before[size_t(i)], 1e-12 * before[size_t(i)]) << "pixel " << i;
-        // ... while its neighbours' weights do move.
-        const size_t neighbour = size_t(i % w == w - 1 ? i - 1 : i + 1);
-        EXPECT_GT(after[neighbour], 2.0 * before[neighbour]);
+    for (int radius : {1, 2, 3}) {
+        const auto before = neighbourMixtureWeights(v, w, h, 0.01, radius);
+        for (int i : {0, 5, 17 * 4 + 8, w * h - 1}) {
+            std::vector<double> changed = v;
+            changed[size_t(i)] = 1000.0 * (v[size_t(i)] + 1.0);
+            const auto after = neighbourMixtureWeights(changed, w, h, 0.01, radius);
+            EXPECT_NEAR(after[size_t(i)], before[size_t(i)], 1e-12 * before[size_t(i)])
+                << "pixel " << i << ", radius " << radius;
+            // ... while its neighbours' weights do move.
+            const size_t neighbour = size_t(i % w == w - 1 ? i - 1 : i + 1);
+            EXPECT_GT(after[neighbour], 2.0 * before[neighbour]);
+        }
     }
 }
 
