@@ -16,7 +16,8 @@ std::vector<MethodOption> pmcIpOptions(bool direct) {
         {"initial-spp", "4", "samples per pixel of the first, uniform iteration"},
         {"spp-per-iteration", "4", "average samples per pixel of each adaptive iteration (N / pixels)"},
         {"epsilon", "0.01", "defensive weight: every pixel's mixture weight is at least epsilon / pixels"},
-        {"min-spp", "1", "samples every pixel gets in every iteration (0: the paper's pure mixture)"},
+        {"min-spp", "1", "pilot samples every pixel gets in every iteration; they alone drive the adaptation"},
+        {"variance-radius", "2", "a pixel's weight comes from its neighbours' pilot variance within this radius"},
     };
     if (direct)
         options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});

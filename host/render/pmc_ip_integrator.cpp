@@ -42,6 +42,8 @@ PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(
     if (minSamples < 0 || double(minSamples) > m_options.samplesPerIteration)
         throw Error("--min-spp: expected 0..spp-per-iteration");
     m_options.minSamples = uint32_t(minSamples);
+    m_options.radius = settings.optionInt("variance-radius", 2);
+    if (m_options.radius < 1 || m_options.radius > 16) throw Error("--variance-radius: expected 1..16 pixels");
     const int iterations = settings.optionInt("iterations", 0);
     if (iterations < 0) throw Error("--iterations: expected a count (0 = from --spp or --time)");
     m_iterations = uint32_t(iterations);
@@ -130,10 +132,19 @@ RenderOutput PmcIp::render(RenderSession& session) {
     vk::CommandBatch batch(session.layout(), &session.timer());
     auto resolve = [&] { return sampler.image(); };
 
+    // Host time spent adapting (alpha, DMS) and reducing results, to weigh against the GPU's.
+    double adaptSeconds = 0.0;
+    double reduceSeconds = 0.0;
+    auto since = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+
     session.startClock();
     uint64_t iteration = 0;
     for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
+        const auto adaptStart = std::chrono::steady_clock::now();
         const std::vector<uint32_t>& counts = sampler.allocate(uniform(rng));
+        adaptSeconds += since(adaptStart);
         push.seed = iterationSeed(settings.seed, uint32_t(iteration));
         // Walk the pixels in order, each pixel's samples 0..n-1 of its sequence.
         uint32_t pixel = 0;
@@ -178,9 +189,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
             sizer.record(n / dispatches, seconds / dispatches);
             film.addCounters(session.counters());
             // Reduce in request order: the same seed gives the same sums.
+            const auto reduceStart = std::chrono::steady_clock::now();
             results.resize(n);
             resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
-            for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, glm::vec3(results[k]));
+            for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, requests[k].sampleIndex, glm::vec3(results[k]));
             if (pmcHi) {
                 // Each pixel's sum of its samples' final weights this iteration.
                 requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
@@ -195,6 +207,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
                     sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
                 }
             }
+            reduceSeconds += since(reduceStart);
 
             const double sppDone = double(sampler.samplesTaken()) / double(pixels);
             const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
@@ -207,6 +220,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         if (pmcHi) {
             // Sec. 6.1: the auxiliary image takes each sampled pixel's mean final weights and
             // seeds the next iteration (pixels without an adapted estimate keep theirs).
+            const auto feedbackStart = std::chrono::steady_clock::now();
             std::vector<float> start(size_t(pixels) * gpu::PMC_HI_MAX_COMPONENTS);
             for (uint32_t p = 0; p < pixels; ++p) {
                 float* sum = &iterationSums[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
@@ -220,6 +234,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
                 std::fill(sum, sum + gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
             }
             if (m_feedback) alphaStart.upload(start);
+            adaptSeconds += since(feedbackStart);
         }
         session.snapshotIfDue(sampler.samplesTaken(), resolve);
     }
@@ -234,6 +249,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
     out.diagnostics.emplace_back("variance", sampler.varianceImage());
     out.methodStats["iterations_completed"] = sampler.iteration();
     out.methodStats["initial_spp"] = m_options.initialSpp;
+    out.methodStats["host_adapt_seconds"] = adaptSeconds;
+    out.methodStats["host_reduce_seconds"] = reduceSeconds;
     out.methodStats["spp_per_iteration"] = m_options.samplesPerIteration;
     out.methodStats["epsilon"] = m_options.epsilon;
     out.methodStats["min_spp"] = m_options.minSamples;

@@ -31,7 +31,8 @@ TEST_F(PmcIpTest, SameSeedSameImageBitForBit) {
     auto a = renderForTest(scene, s);
     auto b = renderForTest(scene, s);
     EXPECT_EQ(a.output.image.rgb, b.output.image.rgb);
-    EXPECT_EQ(a.output.cameraSamples, 32u * 32u * 12u);
+    // The budget, give or take the leave-one-out normalisation (image_plane_sampler.h).
+    EXPECT_NEAR(double(a.output.cameraSamples), 32.0 * 32.0 * 12.0, 0.01 * 32.0 * 32.0 * 12.0);
     EXPECT_EQ(a.stats["method_stats"]["iterations_completed"].get<int>(), 3);
     // The diagnostics: alpha map, sample counts, variance.
     ASSERT_EQ(a.output.diagnostics.size(), 3u);
@@ -39,7 +40,7 @@ TEST_F(PmcIpTest, SameSeedSameImageBitForBit) {
     double samples = 0.0;
     for (size_t i = 0; i < a.output.diagnostics[1].second.pixelCount(); ++i)
         samples += a.output.diagnostics[1].second.rgb[3 * i];
-    EXPECT_EQ(samples, 32.0 * 32.0 * 12.0);
+    EXPECT_EQ(samples, double(a.output.cameraSamples));
 }
 
 TEST_F(PmcIpTest, FurnaceGivesItsAnalyticValue) {
@@ -88,11 +89,11 @@ TEST_F(PmcIpTest, UnbiasedAgainstPathTracing) {
     expectUnbiased(pmcIpSettings("pmc-ip", 20, 24), "pt", 40, 16);
 }
 
-// The paper's pure mixture (no per-pixel minimum: pixels may get no sample in an iteration).
-TEST_F(PmcIpTest, PureMixtureUnbiasedAgainstPathTracing) {
+// Without pilot samples after the first iteration (pixels may get no sample in an iteration;
+// the first iteration's samples alone drive the adaptation).
+TEST_F(PmcIpTest, UnbiasedWithoutPilotSamples) {
     RenderSettings s = pmcIpSettings("pmc-ip", 20, 24);
     s.options["min-spp"] = "0";
-    s.options["epsilon"] = "0.25";
     expectUnbiased(s, "pt", 40, 16);
 }
 
