@@ -5,15 +5,24 @@
 //    reconnectionFactor / |cos_s| = |dw/dA(x2)| and the caustic Gamma / |cos_s(x1 -> x2)| =
 //    |d(u, w_1) / d(A_h, w_h)| (etendue through the specular chain), each against central
 //    differences of the renderer's own camera projection and specular retracing;
+//  - the proposals, histogrammed in the mutation's own coordinates: the lens perturbation's
+//    raster offset is uniform on its disk, the caustic perturbation's (theta, phi) are what the
+//    path realises and are uniform on [0, thetaMax(x)] x [0, 2 pi) (PMC-ER's uniform law);
+//  - detailed balance: for a pair x -> y of the state-dependent uniform law, the ratio of the
+//    empirical proposal densities T(y -> x) / T(x -> y) (counts in equal solid-angle caps
+//    around each target) matches the kernel's transitionRatio thetaMax(x) / thetaMax(y).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
+#include "distribution_test.h"
 #include "gpu_test.h"
 #include "render/session.h"
 #include "render_test.h"
+#include "statistics.h"
 #include "vk/command_batch.h"
 
 namespace pmcr::test {
@@ -354,6 +363,190 @@ TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
     EXPECT_GE(rasterChecked, int(n) * 3 / 4);
     EXPECT_GE(solidChecked, int(n) / 2);
     EXPECT_GE(causticChainChecked, 24);
+}
+
+// The lens perturbation's raster offsets, all proposals included (the raster move is drawn before
+// any tracing): uniform on the disk of lensRadius pixels (equal-area cells in r^2 and angle),
+// which makes T(x -> y) = T(y -> x) in raster measure, the kernel's transitionRatio of 1.
+TEST_F(ErptDensities, LensProposalsAreUniformOnTheDisk) {
+    std::vector<ChainPath> all = recordPaths(1);
+    const ChainPath* x = nullptr;
+    for (const ChainPath& p : all)
+        if (!(p.vertices[0].flags & gpu::VERTEX_SPECULAR) && p.vertices.size() >= 2 &&
+            p.raster.x > 8 && p.raster.x < kSize - 8 && p.raster.y > 8 && p.raster.y < kSize - 8) {
+            x = &p;
+            break;
+        }
+    ASSERT_NE(x, nullptr);
+    const uint32_t n = 1 << 16;
+    auto chain = chainBuffer(n);
+    DensityPush push{};
+    push.lensRadius = 4.0f;
+    push.thetaMin = 1e-4f;
+    push.thetaMax = 0.1f;
+    const auto r = propose(0, *x, n, 5, push, chain);
+    const int rings = 8, sectors = 16;
+    std::vector<double> observed(rings * sectors, 0.0);
+    int valid = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const glm::dvec2 d =
+            (glm::dvec2(r[4 * i]) - glm::dvec2(x->raster)) / double(push.lensRadius);
+        const double r2 = glm::dot(d, d);
+        ASSERT_LE(r2, 1.0 + 1e-4) << "proposal " << i << " outside the disk";
+        double phi = std::atan2(d.y, d.x);
+        if (phi < 0.0)
+            phi += 2.0 * std::numbers::pi;
+        const int a = std::min(rings - 1, int(r2 * rings));
+        const int b = std::min(sectors - 1, int(phi / (2.0 * std::numbers::pi) * sectors));
+        observed[a * sectors + b] += 1.0;
+        if (r[4 * i].z > 0.5f) {
+            ++valid;
+            ASSERT_EQ(r[4 * i].w, 1.0f) << "lens transitionRatio";
+        }
+    }
+    EXPECT_GT(valid, int(n) / 4);
+    const std::vector<double> expected(rings * sectors, double(n) / (rings * sectors));
+    std::printf("  lens raster offsets: %s\n", chi2Test(observed, expected).describe().c_str());
+    EXPECT_TRUE(chi2Passes(observed, expected, "lens raster offsets on the disk"));
+}
+
+// Solid angle of a cap of angular radius rho.
+double capSolidAngle(double rho) {
+    return 2.0 * std::numbers::pi * (1.0 - std::cos(rho));
+}
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+    return 2.0 * std::asin(std::min(1.0, glm::length(a - b) / 2.0));
+}
+
+// A caustic path through cornell-glass's glass (x1 diffuse, then specular vertices).
+const ChainPath* causticPath(const std::vector<ChainPath>& all) {
+    const ChainPath* best = nullptr;
+    for (const ChainPath& p : all)
+        if (p.head > 1 && p.raster.x > 4 && p.raster.x < kSize - 4 && p.raster.y > 4 &&
+            p.raster.y < kSize - 4 && (!best || p.vertices.size() < best->vertices.size()))
+            best = &p;
+    return best;
+}
+
+// The caustic perturbation with PMC-ER's uniform law: every valid proposal y is x's head
+// direction turned by the (theta, phi) drawn, theta uniform on [0, thetaMax(x)] and phi on
+// [0, 2 pi) (chi-square over all proposals), no valid y has theta > thetaMax(y) (the reverse move
+// must be possible), and the kernel's transitionRatio is thetaMax(x) / thetaMax(y).
+TEST_F(ErptDensities, CausticProposalsRealiseTheirAngles) {
+    std::vector<ChainPath> all = recordPaths(4);
+    const ChainPath* x = causticPath(all);
+    ASSERT_NE(x, nullptr) << "no caustic path recorded";
+    const uint32_t n = 1 << 16;
+    auto chain = chainBuffer(n);
+    DensityPush push{};
+    push.thetaMin = 1e-4f;
+    push.thetaMax = 0.02f;  // theta(d) of the uniform law, scaled per path by causticThetaMax
+    push.uniformLaw = 1;
+    const auto r = propose(1, *x, n, 9, push, chain);
+    const double thetaMaxX = r[1].z;
+    ASSERT_GT(thetaMaxX, 0.0);
+    const int thetaCells = 16, phiCells = 8;
+    std::vector<double> observed(thetaCells * phiCells, 0.0);
+    int valid = 0;
+    double worstTheta = 0.0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const double theta = r[4 * i + 1].x, phi = r[4 * i + 1].y;
+        ASSERT_EQ(r[4 * i + 1].z, float(thetaMaxX));
+        const int a = std::min(thetaCells - 1, int(theta / thetaMaxX * thetaCells));
+        const int b = std::min(phiCells - 1, int(phi / (2.0 * std::numbers::pi) * phiCells));
+        observed[a * phiCells + b] += 1.0;
+        if (r[4 * i].z < 0.5f)
+            continue;
+        ++valid;
+        const glm::dvec3 toY = dv(r[4 * i + 2]), toX = dv(r[4 * i + 3]);
+        const double measured = angleBetween(toY, toX);
+        worstTheta = std::max(worstTheta, std::abs(measured - theta) / thetaMaxX);
+        ASSERT_NEAR(measured, theta, 1e-3 * thetaMaxX) << "proposal " << i;
+        const double thetaMaxY = r[4 * i + 1].w;
+        ASSERT_LE(theta, thetaMaxY);
+        ASSERT_NEAR(r[4 * i].w, thetaMaxX / thetaMaxY, 1e-5 * thetaMaxX / thetaMaxY);
+    }
+    std::printf(
+        "  %d of %u caustic proposals valid; thetaMax(x) %.4g; worst |theta measured - drawn| "
+        "%.2e thetaMax\n",
+        valid, n, thetaMaxX, worstTheta);
+    EXPECT_GT(valid, int(n) / 10);
+    const std::vector<double> expected(thetaCells * phiCells, double(n) / (thetaCells * phiCells));
+    std::printf("  caustic (theta, phi): %s\n", chi2Test(observed, expected).describe().c_str());
+    EXPECT_TRUE(chi2Passes(observed, expected, "caustic (theta, phi), uniform law"));
+}
+
+// Detailed balance of the state-dependent uniform law: for x and a valid proposal y from it whose
+// thetaMax differs most from x's, propose many times from each and count the valid proposals in
+// caps of equal solid angle around the other: n(y -> near x) / n(x -> near y) estimates
+// T(y -> x) / T(x -> y), which the kernel claims is transitionRatio(x -> y) = thetaMax(x) /
+// thetaMax(y). (The density varies over a cap, the same way for both counts, so it cancels.)
+TEST_F(ErptDensities, CausticDetailedBalanceMatchesEmpiricalDensities) {
+    std::vector<ChainPath> all = recordPaths(4);
+    const ChainPath* x = causticPath(all);
+    ASSERT_NE(x, nullptr) << "no caustic path recorded";
+    const uint32_t n = 1 << 16;
+    auto chain = chainBuffer(n);
+    DensityPush push{};
+    push.thetaMin = 1e-4f;
+    push.thetaMax = 0.05f;
+    push.uniformLaw = 1;
+    const auto first = propose(1, *x, n, 31, push, chain);
+    const double thetaMaxX = first[1].z;
+    // The pair: theta in the middle of both ranges, thetaMax(y) as far from thetaMax(x) as found.
+    int pick = -1;
+    double pickLog = 0.0;
+    for (uint32_t i = 0; i < n; ++i) {
+        if (first[4 * i].z < 0.5f)
+            continue;
+        const double theta = first[4 * i + 1].x, thetaMaxY = first[4 * i + 1].w;
+        if (theta < 0.4 * std::min(thetaMaxX, thetaMaxY) ||
+            theta > 0.6 * std::min(thetaMaxX, thetaMaxY))
+            continue;
+        const double l = std::abs(std::log(thetaMaxY / thetaMaxX));
+        if (pick < 0 || l > pickLog) {
+            pick = int(i);
+            pickLog = l;
+        }
+    }
+    ASSERT_GE(pick, 0);
+    ChainPath y = *x;
+    auto slots = chain.download<gpu::ChainVertex>(size_t(n) * 2 * kMaxVertices);
+    for (size_t v = 0; v < y.vertices.size(); ++v)
+        y.vertices[v] = slots[(size_t(pick) * 2 + 1) * kMaxVertices + v];
+    y.raster = glm::vec2(first[4 * pick]);
+    const double claimed = first[4 * pick].w;  // T(y -> x) / T(x -> y)
+    const glm::dvec3 omegaX = dv(first[4 * pick + 3]), omegaY = dv(first[4 * pick + 2]);
+    const double rho = 0.25 * angleBetween(omegaX, omegaY);
+
+    // Counts of valid proposals within rho of `target`, over `batches` batches of n.
+    auto countNear = [&](const ChainPath& from, const glm::dvec3& target, uint32_t seed,
+                         int batches) {
+        double hits = 0.0;
+        for (int b = 0; b < batches; ++b) {
+            const auto r = propose(1, from, n, seed + uint32_t(b), push, chain);
+            for (uint32_t i = 0; i < n; ++i)
+                if (r[4 * i].z > 0.5f && angleBetween(dv(r[4 * i + 2]), target) < rho)
+                    hits += 1.0;
+        }
+        return hits;
+    };
+    const int batches = 8;
+    const double nxy = countNear(*x, omegaY, 1000, batches);
+    const double nyx = countNear(y, omegaX, 2000, batches);
+    ASSERT_GT(nxy, 100.0);
+    ASSERT_GT(nyx, 100.0);
+    const double empirical = nyx / nxy;
+    const double relErr = std::sqrt(1.0 / nxy + 1.0 / nyx);
+    const double omega = capSolidAngle(rho), total = double(batches) * n;
+    std::printf(
+        "  thetaMax(x) %.4g, thetaMax(y) %.4g; T(x->y) %.4g, T(y->x) %.4g per sr (caps of %.3g "
+        "sr); "
+        "T(y->x)/T(x->y) empirical %.4f +- %.4f, kernel %.4f\n",
+        thetaMaxX, thetaMaxX / claimed, nxy / (total * omega), nyx / (total * omega), omega,
+        empirical, empirical * relErr, claimed);
+    EXPECT_NEAR(std::log(empirical), std::log(claimed), 4.0 * relErr);
 }
 
 }  // namespace
