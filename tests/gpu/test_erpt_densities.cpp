@@ -183,6 +183,9 @@ protected:
                      "chain vertices");
     }
 
+    // Detailed balance of the caustic perturbation on a recorded path (defined below).
+    void expectCausticDetailedBalance(bool uniformLaw);
+
     std::unique_ptr<RenderSession> m_session;
 };
 
@@ -482,7 +485,7 @@ TEST_F(ErptDensities, CausticProposalsRealiseTheirAngles) {
 // caps of equal solid angle around the other: n(y -> near x) / n(x -> near y) estimates
 // T(y -> x) / T(x -> y), which the kernel claims is transitionRatio(x -> y) = thetaMax(x) /
 // thetaMax(y). (The density varies over a cap, the same way for both counts, so it cancels.)
-TEST_F(ErptDensities, CausticDetailedBalanceMatchesEmpiricalDensities) {
+void ErptDensities::expectCausticDetailedBalance(bool uniformLaw) {
     std::vector<ChainPath> all = recordPaths(4);
     const ChainPath* x = causticPath(all);
     ASSERT_NE(x, nullptr) << "no caustic path recorded";
@@ -491,16 +494,18 @@ TEST_F(ErptDensities, CausticDetailedBalanceMatchesEmpiricalDensities) {
     DensityPush push{};
     push.thetaMin = 1e-4f;
     push.thetaMax = 0.05f;
-    push.uniformLaw = 1;
+    push.uniformLaw = uniformLaw ? 1 : 0;
     const auto first = propose(1, *x, n, 31, push, chain);
-    const double thetaMaxX = first[1].z;
-    // The pair: theta in the middle of both ranges, thetaMax(y) as far from thetaMax(x) as found.
+    const double thetaMaxX = uniformLaw ? first[1].z : push.thetaMax;
+    // The pair: theta in the middle of both ranges, thetaMax(y) as far from thetaMax(x) as found
+    // (the log-uniform law has a fixed range).
     int pick = -1;
     double pickLog = 0.0;
     for (uint32_t i = 0; i < n; ++i) {
         if (first[4 * i].z < 0.5f)
             continue;
-        const double theta = first[4 * i + 1].x, thetaMaxY = first[4 * i + 1].w;
+        const double theta = first[4 * i + 1].x;
+        const double thetaMaxY = uniformLaw ? first[4 * i + 1].w : thetaMaxX;
         if (theta < 0.4 * std::min(thetaMaxX, thetaMaxY) ||
             theta > 0.6 * std::min(thetaMaxX, thetaMaxY))
             continue;
@@ -541,12 +546,23 @@ TEST_F(ErptDensities, CausticDetailedBalanceMatchesEmpiricalDensities) {
     const double relErr = std::sqrt(1.0 / nxy + 1.0 / nyx);
     const double omega = capSolidAngle(rho), total = double(batches) * n;
     std::printf(
-        "  thetaMax(x) %.4g, thetaMax(y) %.4g; T(x->y) %.4g, T(y->x) %.4g per sr (caps of %.3g "
+        "  %s law: thetaMax(x) %.4g, thetaMax(y) %.4g; T(x->y) %.4g, T(y->x) %.4g per sr (caps of "
+        "%.3g "
         "sr); "
         "T(y->x)/T(x->y) empirical %.4f +- %.4f, kernel %.4f\n",
-        thetaMaxX, thetaMaxX / claimed, nxy / (total * omega), nyx / (total * omega), omega,
-        empirical, empirical * relErr, claimed);
+        uniformLaw ? "uniform" : "log-uniform", thetaMaxX, thetaMaxX / claimed,
+        nxy / (total * omega), nyx / (total * omega), omega, empirical, empirical * relErr,
+        claimed);
     EXPECT_NEAR(std::log(empirical), std::log(claimed), 4.0 * relErr);
+}
+
+TEST_F(ErptDensities, CausticDetailedBalanceMatchesEmpiricalDensities) {
+    expectCausticDetailedBalance(true);
+}
+
+// ERPT's own law, log-uniform in [thetaMin, thetaMax]: symmetric, transitionRatio 1.
+TEST_F(ErptDensities, CausticLogUniformLawIsSymmetric) {
+    expectCausticDetailedBalance(false);
 }
 
 }  // namespace
