@@ -5,7 +5,8 @@
 //          slot 0, proposes y into slot 1 and writes
 //          results[4i]   = (rasterY, valid, transitionRatio)
 //          results[4i+1] = (targetX, targetY, y1 position.x, .y)   [y1 = the new x1]
-//          results[4i+2] = (y1 position.z, 0, 0, 0)
+//          results[4i+2] = (y1 position.z, rasterDensity(y1), rasterDensity(x1), 0)
+//          results[4i+3] = (x1 position, y1's triangle)
 //   mode 1 (caustic proposals): the same with mutateCaustic, and
 //          results[4i+1] = (theta drawn, phi drawn, thetaMax(x), thetaMax(y) or 0)
 //          results[4i+2] = (unit direction head -> y_h-1, valid)
@@ -137,8 +138,9 @@ void main() {
         vec3 y1 = pathPoint(yBase, 0u).position;
         results[4u * i] = vec4(r.rasterY, valid ? 1.0 : 0.0, r.transitionRatio);
         results[4u * i + 1u] = vec4(r.targetX, r.targetY, y1.xy);
-        results[4u * i + 2u] = vec4(y1.z, 0.0, 0.0, 0.0);
-        results[4u * i + 3u] = vec4(0.0);
+        results[4u * i + 2u] = vec4(y1.z, valid ? rasterDensity(pathPoint(yBase, 0u)) : 0.0,
+                                    rasterDensity(pathPoint(xBase, 0u)), 0.0);
+        results[4u * i + 3u] = vec4(pathPoint(xBase, 0u).position, float(chainVertices[yBase].triangle));
         return;
     }
     // The angles mutateCaustic draws: its first two random numbers.

@@ -10,7 +10,10 @@
 //    path realises and are uniform on [0, thetaMax(x)] x [0, 2 pi) (PMC-ER's uniform law);
 //  - detailed balance: for a pair x -> y of the state-dependent uniform law, the ratio of the
 //    empirical proposal densities T(y -> x) / T(x -> y) (counts in equal solid-angle caps
-//    around each target) matches the kernel's transitionRatio thetaMax(x) / thetaMax(y).
+//    around each target) matches the kernel's transitionRatio thetaMax(x) / thetaMax(y), and is
+//    1 for the log-uniform law; for the lens perturbation, in the area measure of x1 (counts in
+//    equal discs), it matches rasterDensity(x1) / rasterDensity(y1), what the kernel's F_nu and
+//    transitionRatio of 1 amount to there.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -411,6 +414,121 @@ TEST_F(ErptDensities, LensProposalsAreUniformOnTheDisk) {
     const std::vector<double> expected(rings * sectors, double(n) / (rings * sectors));
     std::printf("  lens raster offsets: %s\n", chi2Test(observed, expected).describe().c_str());
     EXPECT_TRUE(chi2Passes(observed, expected, "lens raster offsets on the disk"));
+}
+
+// At least a pixel inside the image (the discs counted below reach 0.75 pixels around a point).
+bool insideByAPixel(const glm::vec2& raster) {
+    return raster.x >= 1.0f && raster.y >= 1.0f && raster.x <= kSize - 1.0f &&
+           raster.y <= kSize - 1.0f;
+}
+
+// Distance from a point in a triangle's plane to the triangle's nearest edge.
+double edgeDistance(const Scene& scene, uint32_t tri, const glm::dvec3& p) {
+    const gpu::Triangle& t = scene.triangles[tri];
+    const glm::dvec3 v[3] = {glm::dvec3(scene.vertices[t.i0].position),
+                             glm::dvec3(scene.vertices[t.i1].position),
+                             glm::dvec3(scene.vertices[t.i2].position)};
+    double d = 1e30;
+    for (int e = 0; e < 3; ++e) {
+        const glm::dvec3 a = v[e], ab = v[(e + 1) % 3] - a;
+        const double s = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+        d = std::min(d, glm::length(p - (a + s * ab)));
+    }
+    return d;
+}
+
+// Detailed balance of the lens perturbation in the area measure of x1, where it is not trivial:
+// T_A(x -> y) = rasterDensity(y1) / (pi r^2), so the kernel's F_nu and transitionRatio of 1
+// amount to T_A(y -> x) / T_A(x -> y) = rasterDensity(x1) / rasterDensity(y1). For an E D L path
+// on cornell-glass's floor and a proposal y whose rasterDensity differs most from x's, count the
+// proposals from each landing within the same world distance of the other's x1 (discs of equal
+// area on the plane): n(y -> near x1) / n(x -> near y1) estimates that ratio.
+TEST_F(ErptDensities, LensDetailedBalanceInAreaMeasure) {
+    std::vector<ChainPath> all = recordPaths(1);
+    const uint32_t n = 1 << 16;
+    auto chain = chainBuffer(n);
+    DensityPush push{};
+    push.lensRadius = 4.0f;
+    push.thetaMin = 1e-4f;
+    push.thetaMax = 0.1f;
+    // x among 64 E D L paths spread over the image, and y among its valid proposals 1.5 to 3
+    // pixels away on the same triangle, both a pixel inside the image, both farther from its edges
+    // than half their distance (so the discs counted below lie on that plane): the largest density
+    // change.
+    const ChainPath* x = nullptr;
+    int pick = -1;
+    double pickLog = 0.0;
+    int tried = 0;
+    const uint32_t kSelect = 4096;
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    const size_t stride = std::max<size_t>(1, all.size() / 64);
+    for (size_t c = 0; c < all.size(); c += stride) {
+        const ChainPath& p = all[c];
+        if (p.vertices.size() != 2 || (p.vertices[0].flags & gpu::VERTEX_SPECULAR) ||
+            !insideByAPixel(p.raster))
+            continue;
+        if (++tried > 64)
+            break;
+        const auto r = propose(0, p, kSelect, 41, push, chain);
+        for (uint32_t i = 0; i < kSelect; ++i) {
+            const double d = glm::length(glm::dvec2(r[4 * i]) - glm::dvec2(p.raster));
+            if (r[4 * i].z < 0.5f || d < 1.5 || d > 3.0 || !insideByAPixel(glm::vec2(r[4 * i])) ||
+                uint32_t(r[4 * i + 3].w) != p.vertices[0].triangle)
+                continue;
+            const glm::dvec3 a = dv(r[4 * i + 3]);
+            const glm::dvec3 b(r[4 * i + 1].z, r[4 * i + 1].w, r[4 * i + 2].x);
+            const uint32_t tri = p.vertices[0].triangle;
+            if (std::min(edgeDistance(scene, tri, a), edgeDistance(scene, tri, b)) <
+                0.5 * glm::length(a - b))
+                continue;
+            const double l = std::abs(std::log(double(r[4 * i + 2].y) / r[4 * i + 2].z));
+            if (pick < 0 || l > pickLog) {
+                x = &p;
+                pick = int(i);
+                pickLog = l;
+            }
+        }
+    }
+    ASSERT_NE(x, nullptr);
+    // x's proposals again, to read y from the chain buffer.
+    const auto first = propose(0, *x, n, 41, push, chain);
+    ChainPath y = *x;
+    const auto slots = chain.download<gpu::ChainVertex>(size_t(n) * 2 * kMaxVertices);
+    for (size_t v = 0; v < y.vertices.size(); ++v)
+        y.vertices[v] = slots[(size_t(pick) * 2 + 1) * kMaxVertices + v];
+    y.raster = glm::vec2(first[4 * pick]);
+    const glm::dvec3 y1(first[4 * pick + 1].z, first[4 * pick + 1].w, first[4 * pick + 2].x);
+    const glm::dvec3 x1 = dv(first[4 * pick + 3]);
+    const double densityX = first[4 * pick + 2].z, densityY = first[4 * pick + 2].y;
+    const double claimed = densityX / densityY;  // T_A(y -> x) / T_A(x -> y)
+    const double rho = 0.25 * glm::length(y1 - x1);
+    const uint32_t plane = x->vertices[0].triangle;
+    auto countNear = [&](const ChainPath& from, const glm::dvec3& target, uint32_t seed,
+                         int batches) {
+        double hits = 0.0;
+        for (int b = 0; b < batches; ++b) {
+            const auto r = propose(0, from, n, seed + uint32_t(b), push, chain);
+            for (uint32_t i = 0; i < n; ++i) {
+                const glm::dvec3 p(r[4 * i + 1].z, r[4 * i + 1].w, r[4 * i + 2].x);
+                if (r[4 * i].z > 0.5f && uint32_t(r[4 * i + 3].w) == plane &&
+                    glm::length(p - target) < rho)
+                    hits += 1.0;
+            }
+        }
+        return hits;
+    };
+    const int batches = 8;
+    const double nxy = countNear(*x, y1, 100, batches);
+    const double nyx = countNear(y, x1, 200, batches);
+    ASSERT_GT(nxy, 100.0);
+    ASSERT_GT(nyx, 100.0);
+    const double empirical = nyx / nxy;
+    const double relErr = std::sqrt(1.0 / nxy + 1.0 / nyx);
+    std::printf(
+        "  lens: rasterDensity(x1) %.4g, rasterDensity(y1) %.4g; T_A(y->x)/T_A(x->y) "
+        "empirical %.4f +- %.4f, kernel %.4f\n",
+        densityX, densityY, empirical, empirical * relErr, claimed);
+    EXPECT_NEAR(std::log(empirical), std::log(claimed), 4.0 * relErr);
 }
 
 // Solid angle of a cap of angular radius rho.
