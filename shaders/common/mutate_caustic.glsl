@@ -55,10 +55,9 @@ float causticGamma(uint base, uint h) {
         vec3 wLight = normalize(pathPoint(base, i + 1u).position - s.position);
         ShadingPoint sh = makeShadingPoint(s, wEye);
         if (vertexTransmits(v)) gamma *= sqr(sh.bsdf.eta);
-        float cosGeometric = abs(dot(s.normal, wLight)) * abs(dot(s.normal, wEye));
-        if (!(cosGeometric > 0.0)) return 0.0;
-        gamma *= abs(dot(sh.frame.n, wLight)) * abs(dot(s.normal, wEye)) /
-                 (abs(dot(s.normal, wLight)) * abs(dot(sh.frame.n, wEye)));
+        float denominator = abs(dot(s.normal, wLight)) * abs(dot(sh.frame.n, wEye));
+        if (!(denominator > 0.0)) return 0.0;
+        gamma *= abs(dot(sh.frame.n, wLight)) * abs(dot(s.normal, wEye)) / denominator;
         previous = s.position;
     }
     return gamma;
