@@ -161,6 +161,7 @@ RenderOutput Erpt::render(RenderSession& session) {
     vk::CommandBatch batch(session.layout(), &session.timer());
     double seedEnergy = 0.0, depositedEnergy = 0.0;
     uint64_t chainsStarted = 0;
+    uint64_t chainSteps = 0;  // mutations run, each depositing e_d in total (equal deposition)
     DispatchSizer sizer(4096, kChainCapacity, session.targetDispatchSeconds());
     // Records the batch's counter and energy buffers into the totals.
     auto submit = [&]() {
@@ -223,6 +224,7 @@ RenderOutput Erpt::render(RenderSession& session) {
                             push.chainCount = std::min(sizer.units(), group - c);
                             const auto t0 = std::chrono::steady_clock::now();
                             batch.dispatch(chainKernel, push, push.chainCount);
+                            chainSteps += uint64_t(push.chainCount) * push.steps;
                             submit();
                             sizer.record(push.chainCount, std::chrono::duration<double>(
                                                               std::chrono::steady_clock::now() - t0).count());
@@ -286,7 +288,15 @@ RenderOutput Erpt::render(RenderSession& session) {
         {"deposits_dropped", c.values[gpu::COUNTER_DEPOSITS_DROPPED]},
         {"seed_energy", seedEnergy},        // in units of e_d, all passes
         {"deposited_energy", depositedEnergy},
-        {"energy_lost", seedEnergy > 0.0 ? 1.0 - depositedEnergy / seedEnergy : 0.0},
+        {"chain_steps", chainSteps},
+        // The chains' energy that did not land, relative to the e_d per step they carry: zero by
+        // construction (a rejected or invalid proposal still deposits at the current path), up
+        // to float rounding of the sums; only dropped deposits (NaN, biased filters) make it
+        // positive.
+        {"energy_not_deposited", chainSteps > 0 ? 1.0 - depositedEnergy / double(chainSteps) : 0.0},
+        // Deposited relative to seed energy, minus one: zero in expectation only (ERPT sec. 3.2),
+        // it is the noise of the floor(U + e / (m e_d)) chain counts.
+        {"deposited_vs_seed_energy", seedEnergy > 0.0 ? depositedEnergy / seedEnergy - 1.0 : 0.0},
         {"biased_filters", o.filterProposalsRadius > 0 || o.filterConsecutive > 0},
     };
     return out;

@@ -41,15 +41,23 @@ float causticGamma(uint base, uint h) {
     if (cosG1 <= 0.0) return 0.0;
     float gamma = rasterDensity(x1) * abs(dot(sh1.frame.n, w12)) / cosG1 *
                   absCosGeometric(head, normalize(beforeHead.position - head.position));
-    // Conservation of etendue through the chain: the product of eta^2 over its transmissions.
+    // Conservation of etendue through the chain, vertex by vertex. Free flight keeps
+    // |cos_g| dA dw; a delta lobe about the shading normal n_s maps solid angle as
+    // eta_in^2 |cos_s(in)| dw_in = eta_out^2 |cos_s(out)| dw_out at a fixed point (its dependence
+    // on the position drops out of the determinant), so each S vertex contributes eta^2 (on a
+    // transmission) and, where n_s is not the geometric normal (interpolated normals), the
+    // factor |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|), in = the light's side.
     vec3 previous = x1.position;
     for (uint i = 1u; i < h; ++i) {
         ChainVertex v = chainVertices[base + i];
         SurfacePoint s = pathPoint(base, i);
-        if (vertexTransmits(v)) {
-            ShadingPoint sh = makeShadingPoint(s, normalize(previous - s.position));
-            gamma *= sqr(sh.bsdf.eta);
-        }
+        vec3 wEye = normalize(previous - s.position);
+        vec3 wLight = normalize(pathPoint(base, i + 1u).position - s.position);
+        ShadingPoint sh = makeShadingPoint(s, wEye);
+        if (vertexTransmits(v)) gamma *= sqr(sh.bsdf.eta);
+        float denominator = abs(dot(s.normal, wLight)) * abs(dot(sh.frame.n, wEye));
+        if (!(denominator > 0.0)) return 0.0;
+        gamma *= abs(dot(sh.frame.n, wLight)) * abs(dot(s.normal, wEye)) / denominator;
         previous = s.position;
     }
     return gamma;

@@ -22,6 +22,10 @@
 //              (ERPT rule 5) and the specular chain x_h -> x1 handled by conservation of etendue
 //              (n^2 cos dA dw is invariant along the chain, Veach 1997 sec. 5.2): its Jacobian is
 //              (n_h / n_1)^2 / |cos_g(x1)|, whose (n_h / n_1)^2 is the product of the chain's eta^2.
+//              A delta lobe about an interpolated shading normal conserves n^2 |cos_s| dw, not
+//              n^2 |cos_g| dw, so each S vertex also contributes
+//              |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|) (mutate_caustic.glsl).
+// tests/gpu/test_erpt_densities.cpp checks these Jacobians against finite differences.
 // Factors outside the perturbed part are equal for x and y and cancel, except in P, which is
 // RGB and enters through its luminance, so P is always evaluated over the whole path.
 #ifndef PMCR_PATH_SPACE_GLSL

@@ -50,7 +50,7 @@ grep -qE '^  pt +[0-9.]+ ms +[0-9]+ dispatches' "$tmp/stats" ||
 "$pmcr" render "$src/scenes/cornell-glass.glb" --method erpt --spp 1 --chain-length 4 \
     --width 16 --height 16 -q --stats --no-png -o "$tmp/e.exr" >"$tmp/erpt-stats" || fail "erpt --stats render failed"
 for key in chains_started lens_proposed lens_acceptance caustic_proposed caustic_acceptance \
-           invalid_proposals deposits_dropped; do
+           invalid_proposals deposits_dropped energy_not_deposited deposited_vs_seed_energy; do
     grep -qE "^  $key +[0-9.e+-]+$" "$tmp/erpt-stats" || fail "erpt --stats lacks $key: $(cat "$tmp/erpt-stats")"
 done
 grep -qE '^  erpt_chains +[0-9.]+ ms' "$tmp/erpt-stats" || fail "erpt --stats lacks the chain kernel's GPU time"

@@ -48,6 +48,10 @@ TEST_F(ErptTest, EqualDepositionConservesEnergyInExpectation) {
         const double deposited = m["deposited_energy"].get<double>();
         EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
         EXPECT_DOUBLE_EQ(deposited, 20.0 * m["chains_started"].get<double>());
+        // Rejected and invalid proposals lose nothing: every step deposits e_d.
+        EXPECT_EQ(m["chain_steps"].get<double>(), 20.0 * m["chains_started"].get<double>());
+        EXPECT_EQ(m["energy_not_deposited"].get<double>(), 0.0);
+        EXPECT_NEAR(m["deposited_vs_seed_energy"].get<double>(), seed > 0.0 ? deposited / seed - 1.0 : 0.0, 1e-12);
         sum += deposited - seed;
         sumSq += (deposited - seed) * (deposited - seed);
         seedTotal += seed;
