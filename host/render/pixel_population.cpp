@@ -267,55 +267,59 @@ ResampleCounts PixelPopulation::resample(Pcg32& rng, const std::vector<glm::dvec
     return counts;
 }
 
-ProposalDensity::ProposalDensity(const PixelPopulation& population, uint32_t poolDraws)
-    : m_population(population) {
+ProposalDensity::ProposalDensity(const PixelPopulation& population, uint32_t poolDraws) {
     const double w = population.width(), h = population.height();
     m_uniform = double(poolDraws) / (w * h);
     const auto& radii = population.settings().radii;
+    m_components = population.components();
+    for (int c = 0; c < m_components; ++c) m_radiusSq[size_t(c)] = radii[size_t(c)] * radii[size_t(c)];
     m_cell = std::max(1.0, *std::max_element(radii.begin(), radii.end()));
     m_cellsX = std::max(1, int(std::ceil(w / m_cell)));
     m_cellsY = std::max(1, int(std::ceil(h / m_cell)));
     const auto& members = population.members();
-    const int k = population.components();
     const double tr = population.settings().mutations;
-    m_weight.resize(members.size() * size_t(k));
     std::vector<uint32_t> cellOf(members.size());
     m_cellStart.assign(size_t(m_cellsX) * size_t(m_cellsY) + 1, 0);
     for (size_t i = 0; i < members.size(); ++i) {
-        const auto& m = members[i];
-        for (int c = 0; c < k; ++c)
-            m_weight[i * size_t(k) + size_t(c)] =
-                m.area[size_t(c)] > 0.0 ? tr * m.alpha[size_t(c)] / m.area[size_t(c)] : 0.0;
-        const int cx = std::min(m_cellsX - 1, int(m.position.x / m_cell));
-        const int cy = std::min(m_cellsY - 1, int(m.position.y / m_cell));
+        const int cx = std::min(m_cellsX - 1, int(members[i].position.x / m_cell));
+        const int cy = std::min(m_cellsY - 1, int(members[i].position.y / m_cell));
         cellOf[i] = uint32_t(cy * m_cellsX + cx);
         ++m_cellStart[cellOf[i] + 1];
     }
     for (size_t c = 1; c < m_cellStart.size(); ++c) m_cellStart[c] += m_cellStart[c - 1];
-    m_cellMembers.resize(members.size());
+    m_x.resize(members.size());
+    m_y.resize(members.size());
+    for (auto& w : m_weight) w.assign(members.size(), 0.0);
     std::vector<uint32_t> fill(m_cellStart.begin(), m_cellStart.end() - 1);
-    for (uint32_t i = 0; i < members.size(); ++i) m_cellMembers[fill[cellOf[i]]++] = i;
+    for (size_t i = 0; i < members.size(); ++i) {
+        const auto& m = members[i];
+        const uint32_t e = fill[cellOf[i]]++;
+        m_x[e] = m.position.x;
+        m_y[e] = m.position.y;
+        for (int c = 0; c < m_components; ++c)
+            m_weight[size_t(c)][e] =
+                m.area[size_t(c)] > 0.0 ? tr * m.alpha[size_t(c)] / m.area[size_t(c)] : 0.0;
+    }
 }
 
 double ProposalDensity::operator()(glm::dvec2 x) const {
-    const auto& members = m_population.members();
-    const auto& radii = m_population.settings().radii;
-    const int k = m_population.components();
     const int cx = std::min(m_cellsX - 1, int(x.x / m_cell));
     const int cy = std::min(m_cellsY - 1, int(x.y / m_cell));
+    const int x0 = std::max(0, cx - 1), x1 = std::min(m_cellsX - 1, cx + 1);
     double q = m_uniform;
-    for (int y = std::max(0, cy - 1); y <= std::min(m_cellsY - 1, cy + 1); ++y)
-        for (int xx = std::max(0, cx - 1); xx <= std::min(m_cellsX - 1, cx + 1); ++xx) {
-            const size_t cell = size_t(y) * size_t(m_cellsX) + size_t(xx);
-            for (uint32_t j = m_cellStart[cell]; j < m_cellStart[cell + 1]; ++j) {
-                const uint32_t i = m_cellMembers[j];
-                const glm::dvec2 d = x - members[i].position;
-                const double r2 = d.x * d.x + d.y * d.y;
-                for (int c = 0; c < k; ++c)
-                    if (r2 < radii[size_t(c)] * radii[size_t(c)])
-                        q += m_weight[size_t(i) * size_t(k) + size_t(c)];
-            }
+    for (int y = std::max(0, cy - 1); y <= std::min(m_cellsY - 1, cy + 1); ++y) {
+        // Cells x0..x1 of a row are contiguous in m_entries.
+        const size_t row = size_t(y) * size_t(m_cellsX);
+        const uint32_t begin = m_cellStart[row + size_t(x0)], end = m_cellStart[row + size_t(x1) + 1];
+        const double r0 = m_radiusSq[0], r1 = m_radiusSq[1], r2 = m_radiusSq[2];
+        const double *px = m_x.data(), *py = m_y.data();
+        const double *w0 = m_weight[0].data(), *w1 = m_weight[1].data(), *w2 = m_weight[2].data();
+        for (uint32_t j = begin; j < end; ++j) {
+            const double dx = x.x - px[j], dy = x.y - py[j];
+            const double d2 = dx * dx + dy * dy;
+            q += (d2 < r0 ? w0[j] : 0.0) + (d2 < r1 ? w1[j] : 0.0) + (d2 < r2 ? w2[j] : 0.0);
         }
+    }
     return q;
 }
 

@@ -175,14 +175,17 @@ public:
     double operator()(glm::dvec2 x) const;
 
 private:
-    const PixelPopulation& m_population;
     double m_uniform;
+    int m_components;
+    std::array<double, kMaxPopulationRadii> m_radiusSq{};
     double m_cell;
     int m_cellsX;
     int m_cellsY;
-    std::vector<uint32_t> m_cellStart;  // CSR: members of cell c are m_cellMembers[start[c]..start[c+1])
-    std::vector<uint32_t> m_cellMembers;
-    std::vector<double> m_weight;       // per member and component: TR alpha_ik / area_ik
+    std::vector<uint32_t> m_cellStart;  // members of cell c: entries start[c]..start[c+1]
+    // Members grouped by cell, as Q needs them (structure of arrays, so the loop vectorises):
+    // position and TR alpha_ik / area_ik per component (0 past the last component).
+    std::vector<double> m_x, m_y;
+    std::array<std::vector<double>, kMaxPopulationRadii> m_weight;
 };
 
 }  // namespace pmcr

@@ -44,6 +44,20 @@ uint32_t pixelOf(glm::vec2 raster, int width, int height) {
     return uint32_t(y) * uint32_t(width) + uint32_t(x);
 }
 
+// Interleaves the bits of a pixel's coordinates (Morton order), so that sorting by it keeps
+// neighbouring camera rays in neighbouring invocations.
+uint32_t mortonCode(uint32_t x, uint32_t y) {
+    auto spread = [](uint32_t v) {
+        v &= 0xffffu;
+        v = (v | (v << 8)) & 0x00ff00ffu;
+        v = (v | (v << 4)) & 0x0f0f0f0fu;
+        v = (v | (v << 2)) & 0x33333333u;
+        v = (v | (v << 1)) & 0x55555555u;
+        return v;
+    };
+    return spread(x) | (spread(y) << 1);
+}
+
 }  // namespace
 
 PmcPtOptions PmcPtOptions::fromSettings(const RenderSettings& s) {
@@ -204,6 +218,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     // statistics beta needs, and the strategy counts.
     std::vector<glm::dvec3> weightedSum(pixels, glm::dvec3(0.0));
     std::vector<glm::dvec3> plainSum(pixels, glm::dvec3(0.0));
+    std::vector<glm::dvec3> control(pixels, glm::dvec3(0.0));
     std::vector<RunningStats> pixelLuminance(pixels);
     std::vector<std::array<uint32_t, kMaxPopulationRadii>> strategy(pixels, {0u, 0u, 0u});
     uint64_t steps = 0, samples = 0, adaptations = 0;
@@ -230,6 +245,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
     std::vector<double> density;
+    std::vector<uint32_t> order, keys;
+    std::vector<gpu::SampleRequest> sortedRequests;
+    std::vector<glm::vec4> sortedResults;
     double hostSeconds = 0.0;  // population, densities and reduction: the method's own overhead
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -250,23 +268,44 @@ RenderOutput PmcPt::render(RenderSession& session) {
             const PositionDraw& d = draws[j];
             gpu::SampleRequest& r = requests[j];
             r.raster = glm::vec2(d.position);
-            // The path's sampler: a member's own sequence over its mutations, or the pool draw's.
-            const bool member = d.member != PositionDraw::kPool;
-            r.pixel = member ? d.member : ps.size + uint32_t(j - mutationDraws);
-            r.sampleIndex = uint32_t(member ? steps * ps.mutations + (j % ps.mutations) : steps);
+            // Each path gets a sampler sequence of its own (stream = the draw's number in the
+            // render). Sharing one across a member's mutations would stratify them, and then a
+            // path's random numbers would depend on earlier paths' whose values decided where
+            // this one goes: the estimator would no longer be unbiased given the past.
+            const uint64_t draw = samples + j;
+            r.pixel = uint32_t(draw);
+            r.sampleIndex = uint32_t(draw >> 32);
             density[j] = proposal(d.position);
         }
+        // Trace in Morton order of the pixels (coherent rays), results back in draw order.
+        order.resize(draws.size());
+        keys.resize(draws.size());
+        for (uint32_t j = 0; j < order.size(); ++j) {
+            order[j] = j;
+            keys[j] = mortonCode(uint32_t(requests[j].raster.x), uint32_t(requests[j].raster.y));
+        }
+        std::stable_sort(order.begin(), order.end(),
+                         [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+        sortedRequests.resize(draws.size());
+        for (size_t i = 0; i < order.size(); ++i) sortedRequests[i] = requests[order[i]];
         hostSeconds += since(hostStart);
-        if (!trace(requests, results)) break;  // an unfinished step is dropped whole
+        if (!trace(sortedRequests, sortedResults)) break;  // an unfinished step is dropped whole
         hostStart = std::chrono::steady_clock::now();
+        results.resize(draws.size());
+        for (size_t i = 0; i < order.size(); ++i) results[order[i]] = sortedResults[i];
 
-        // Reduce in draw order: I_t(pixel) = sum L / Q_t (see the header), the plain sums, the
-        // tagged luminances and the strategy counts.
+        // Reduce in draw order: I_t(pixel) = c + sum (L - c) / Q_t with c the pixel's estimate
+        // from the steps before (see the header), the plain sums, the tagged luminances and the
+        // strategy counts.
+        for (uint32_t p = 0; p < pixels; ++p) {
+            control[p] = steps > 0 ? weightedSum[p] / double(steps) : glm::dvec3(0.0);
+            weightedSum[p] += control[p];
+        }
         for (size_t j = 0; j < draws.size(); ++j) {
             const uint32_t p = pixelOf(requests[j].raster, width, height);
             const glm::vec4 r = results[j];
             const glm::dvec3 radiance(r.x, r.y, r.z);
-            weightedSum[p] += radiance / density[j];
+            weightedSum[p] += (radiance - control[p]) / density[j];
             plainSum[p] += radiance;
             pixelLuminance[p].add(r.w);
             population.record(draws[j], r.w);
