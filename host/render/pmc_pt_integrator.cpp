@@ -21,8 +21,11 @@ constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at mo
 constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
 
 std::vector<double> parseRadii(const std::string& text) {
+    // Commas or slashes (`pmcr bench --methods` splits methods at commas).
+    std::string list = text;
+    std::replace(list.begin(), list.end(), '/', ',');
     std::vector<double> radii;
-    std::stringstream ss(text);
+    std::stringstream ss(list);
     std::string item;
     while (std::getline(ss, item, ',')) {
         char* end = nullptr;

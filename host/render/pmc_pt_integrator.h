@@ -42,7 +42,7 @@ struct PmcPtOptions {
     uint32_t adaptEvery = 100;      // resample steps between alpha and beta updates (paper 100-200)
     double resampleRate = 0.4;
     double epsilon = 0.01;
-    double defensive = 0.1;         // share of a step's eye paths drawn from the pool
+    double defensive = 0.5;         // share of a step's eye paths drawn from the pool
     bool plainAverage = false;      // --estimator average: the paper's per-pixel average (biased)
 
     static PmcPtOptions fromSettings(const RenderSettings& settings);
