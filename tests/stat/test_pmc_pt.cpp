@@ -170,6 +170,7 @@ ImageMoments pathTracedMoments(const RenderSettings& like, int renders, uint32_t
 TEST_F(PmcPtTest, DISABLED_MeasurePlainAverageBias) {
     const int renders = 100;
     RenderSettings s = pmcPtSettings(24, 16);
+    s.options["defensive"] = "0.1";  // the adaptive part at its strongest
     const ImageMoments pt = pathTracedMoments(s, 32, 256);
     // Control: path tracing itself at the same budget (a heavy-tailed pixel's z is skewed).
     RenderSettings control = s;
@@ -184,6 +185,14 @@ TEST_F(PmcPtTest, DISABLED_MeasurePlainAverageBias) {
 
 TEST_F(PmcPtTest, UnbiasedAgainstPathTracing) {
     const auto result = zTestAgainstPathTracing(pmcPtSettings(24, 16), 40, 16);
+    EXPECT_GE(result.passFraction, 0.9975) << result.describe();
+}
+
+// A tenth of the eye paths defensive: the density follows the population most closely.
+TEST_F(PmcPtTest, UnbiasedAgainstPathTracingWithLittleDefensiveSampling) {
+    RenderSettings s = pmcPtSettings(24, 16);
+    s.options["defensive"] = "0.1";
+    const auto result = zTestAgainstPathTracing(s, 40, 16);
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
