@@ -19,6 +19,8 @@ namespace {
 constexpr uint32_t kSlots = 8;              // dispatches per batch, each with its own buffers
 constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
 constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
+// Step t is weighted min(t, kRampSteps): the first steps' control variates come from few samples.
+constexpr uint64_t kRampSteps = 8;
 
 std::vector<double> parseRadii(const std::string& text) {
     // Commas or slashes (`pmcr bench --methods` splits methods at commas).
@@ -225,13 +227,14 @@ RenderOutput PmcPt::render(RenderSession& session) {
     std::vector<RunningStats> pixelLuminance(pixels);
     std::vector<std::array<uint32_t, kMaxPopulationRadii>> strategy(pixels, {0u, 0u, 0u});
     uint64_t steps = 0, samples = 0, adaptations = 0;
+    double weightTotal = 0.0;  // sum of the steps' weights, which depend only on their number
     ResampleCounts resampled;
 
     auto estimate = [&](uint32_t p) {
         if (o.plainAverage)
             return pixelLuminance[p].count > 0 ? plainSum[p] / double(pixelLuminance[p].count)
                                                : glm::dvec3(0.0);
-        return steps > 0 ? weightedSum[p] / double(steps) : glm::dvec3(0.0);
+        return weightTotal > 0.0 ? weightedSum[p] / weightTotal : glm::dvec3(0.0);
     };
     auto resolve = [&] {
         Image image(width, height);
@@ -297,24 +300,30 @@ RenderOutput PmcPt::render(RenderSession& session) {
         results.resize(draws.size());
         for (size_t i = 0; i < order.size(); ++i) results[order[i]] = sortedResults[i];
 
-        // Reduce in draw order: I_t(pixel) = c + sum (L - c) / Q_t with c the pixel's estimate
-        // from the steps before (see the header), the plain sums, the tagged luminances and the
-        // strategy counts.
+        // Reduce in draw order: I_t(pixel) = c + sum (L - c) / Q_t with c the plain average of
+        // the pixel's earlier samples (see the header; the image's while it has none), the plain
+        // sums, the tagged luminances and the strategy counts.
+        glm::dvec3 imageSum(0.0);
+        for (uint32_t p = 0; p < pixels; ++p) imageSum += plainSum[p];
+        const glm::dvec3 imageMean = samples > 0 ? imageSum / double(samples) : glm::dvec3(0.0);
         for (uint32_t p = 0; p < pixels; ++p) {
-            control[p] = steps > 0 ? weightedSum[p] / double(steps) : glm::dvec3(0.0);
-            weightedSum[p] += control[p];
+            const uint32_t n = pixelLuminance[p].count;
+            control[p] = n > 0 ? plainSum[p] / double(n) : imageMean;
         }
+        const double stepWeight = double(std::min(steps + 1, kRampSteps));
+        for (uint32_t p = 0; p < pixels; ++p) weightedSum[p] += stepWeight * control[p];
         for (size_t j = 0; j < draws.size(); ++j) {
             const uint32_t p = pixelOf(requests[j].raster, width, height);
             const glm::vec4 r = results[j];
             const glm::dvec3 radiance(r.x, r.y, r.z);
-            weightedSum[p] += (radiance - control[p]) / density[j];
+            weightedSum[p] += stepWeight * (radiance - control[p]) / density[j];
             plainSum[p] += radiance;
             pixelLuminance[p].add(r.w);
             population.record(draws[j], r.w);
             if (draws[j].member != PositionDraw::kPool) ++strategy[p][draws[j].component];
         }
         ++steps;
+        weightTotal += stepWeight;
         samples += draws.size();
         population.endStep();
 
