@@ -36,7 +36,16 @@ RenderCommand parseRenderCommand(Args& args) {
         else if (a == "--validate") s.validate = true;
         else if (a == "--stats") c.stats = true;
         else if (a == "--quiet" || a == "-q") s.quiet = true;
-        else if (a.rfind("--", 0) == 0 && a.size() > 2) s.options[a.substr(2)] = args.value(a);
+        else if (a.rfind("--", 0) == 0 && a.size() > 2) {
+            // A method's option. Check the name before taking a value, so that an unknown flag
+            // is named as such instead of swallowing the next argument.
+            const std::string name = a.substr(2);
+            bool known = false;
+            for (const auto& m : methods())
+                for (const auto& o : m.options) known = known || o.name == name;
+            if (!known) throw Error(a + ": unknown option (see pmcr render --help)");
+            s.options[name] = args.value(a);
+        }
         else if (a.rfind("-", 0) == 0 && a.size() > 1) throw Error(a + ": unknown option");
         else if (!sceneSeen) {
             c.scene = a;
@@ -48,6 +57,9 @@ RenderCommand parseRenderCommand(Args& args) {
     if (!sceneSeen) throw Error("render: missing SCENE (a .gltf or .glb file)");
     if (c.png && c.noPng) throw Error("--png and --no-png contradict each other");
     validateMethodOptions(s);
+    // Creating the integrator parses its option values and touches no device: a bad value
+    // fails here, as one line, before the device is opened.
+    findMethod(s.method)->create(s);
     return c;
 }
 
@@ -91,6 +103,13 @@ int runRender(const RenderCommand& command) {
         for (const auto& [name, k] : st["gpu_kernels"].items())
             std::printf("  %-16s %10.1f ms  %6llu dispatches\n", name.c_str(),
                         k["milliseconds"].get<double>(), (unsigned long long)k["dispatches"].get<uint64_t>());
+        // The method's own figures (ERPT: chains started, proposals and acceptance per
+        // mutation type, dropped deposits), as in the stats JSON's method_stats.
+        if (st.contains("method_stats") && st["method_stats"].is_object() && !st["method_stats"].empty()) {
+            std::printf("%s:\n", settings.method.c_str());
+            for (const auto& [name, value] : st["method_stats"].items())
+                std::printf("  %-28s %s\n", name.c_str(), value.dump().c_str());
+        }
         for (const auto& path : written) std::printf("wrote             %s\n", path.string().c_str());
     }
     auto messages = context.validationMessages();

@@ -2,10 +2,29 @@
 
 #include "core/error.h"
 #include "render/erpt_integrator.h"
+#include "render/pmc_ip_integrator.h"
 #include "render/pmc_pt_integrator.h"
 #include "render/pt_integrator.h"
 
 namespace pmcr {
+
+namespace {
+
+std::vector<MethodOption> pmcIpOptions(bool direct) {
+    std::vector<MethodOption> options = {
+        {"iterations", "0", "adaptive iterations after the first (0: as many as --spp or --time allow)"},
+        {"initial-spp", "4", "samples per pixel of the first, uniform iteration"},
+        {"spp-per-iteration", "4", "average samples per pixel of each adaptive iteration (N / pixels)"},
+        {"epsilon", "0.01", "defensive weight: every pixel's mixture weight is at least epsilon / pixels"},
+        {"min-spp", "1", "pilot samples every pixel gets in every iteration; they alone drive the adaptation"},
+        {"variance-radius", "2", "a pixel's weight comes from its neighbours' pilot variance within this radius"},
+    };
+    if (direct)
+        options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});
+    return options;
+}
+
+}  // namespace
 
 const std::vector<MethodInfo>& methods() {
     static const std::vector<MethodInfo> list = {
@@ -16,9 +35,13 @@ const std::vector<MethodInfo>& methods() {
          {{"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"}},
          [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Direct); },
          ""},
-        {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true, {}, nullptr,
-         "issue 5"},
-        {"pmc-ip-direct", "PMC-IP over MIS direct lighting", true, {}, nullptr, "issue 5"},
+        {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true, pmcIpOptions(false),
+         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Full); },
+         ""},
+        {"pmc-ip-direct", "PMC-IP adaptive image-plane sampling over MIS direct lighting", true,
+         pmcIpOptions(true),
+         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Direct); },
+         ""},
         {"pmc-hi", "PMC-HI adaptive direct lighting", true, {}, nullptr, "issue 6"},
         {"pmc-ip-hi", "PMC-IP with PMC-HI feedback", true, {}, nullptr, "issue 6"},
         {"erpt", "energy redistribution path tracing (equal deposition, lens and caustic perturbations)",

@@ -39,7 +39,7 @@ void main() {
             dropped = acc.dropped;
             paths = acc.count;
         } else {
-            SampleRequest r = requests[i];
+            SampleRequest r = requests[push.requestOffset + i];
             Sampler s = samplerCreate(r.pixel, r.sampleIndex, push.seed);
             vec2 raster = r.raster;
             uint pixel = r.pixel;
@@ -54,7 +54,7 @@ void main() {
             accumulatorAdd(acc, estimateRadiance(raster, s, rays, push.recordOffset + i));
             if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
                 filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
-            if ((push.flags & PT_FLAG_WRITE_RESULTS) != 0u) results[i] = vec4(acc.sum, acc.lumSum);
+            if ((push.flags & PT_FLAG_WRITE_RESULTS) != 0u) results[push.requestOffset + i] = vec4(acc.sum, acc.lumSum);
             dropped = acc.dropped;
             paths = 1u;
         }

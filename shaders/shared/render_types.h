@@ -60,6 +60,7 @@ struct PtPush {
     uint rrDepth;          // Russian roulette starts after this many bounces
     uint lightSamples;     // direct.comp: light samples per camera sample (plus as many BSDF samples)
     uint recordOffset;     // PT_FLAG_RECORD_PATHS: index of this dispatch's first PathRecord
-    uint pad0;
+    uint requestOffset;    // PT_SOURCE_LIST / _POINTS: index of this dispatch's first request
+                           // (and result), so one batch can walk a request list in slices
 };
 PMCR_CHECK_SIZE(PtPush, 48);

@@ -34,6 +34,7 @@ expect_error() {
 
 printf 'not json at all' >"$tmp/garbage.gltf"
 printf 'glTF\x02\x00\x00\x00' >"$tmp/truncated.glb"
+head -c 1000 "$src/scenes/cornell-glass.glb" >"$tmp/cut.glb"  # a real file cut short
 cat >"$tmp/nolight.gltf" <<'GLTF'
 {"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
  "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
@@ -57,12 +58,18 @@ GLTF
 expect_error "missing scene file" "no-such-scene\.glb" -- render "$tmp/no-such-scene.glb" -o "$tmp/out/x.exr"
 expect_error "not JSON" "garbage\.gltf" -- render "$tmp/garbage.gltf" -o "$tmp/out/x.exr"
 expect_error "truncated glb" "truncated\.glb" -- render "$tmp/truncated.glb" -o "$tmp/out/x.exr"
+expect_error "glb cut short" "cut\.glb.*truncated" -- render "$tmp/cut.glb" -o "$tmp/out/x.exr"
 expect_error "no emitters" "nolight\.gltf.*emitter" -- render "$tmp/nolight.gltf" -o "$tmp/out/x.exr"
 expect_error "NaN geometry" "nanpos\.gltf" -- render "$tmp/nanpos.gltf" -o "$tmp/out/x.exr"
 expect_error "required extension" "KHR_draco_mesh_compression" -- render "$tmp/required.gltf" -o "$tmp/out/x.exr"
 expect_error "unknown method" "no-such-method" -- render "$src/scenes/furnace.glb" --method no-such-method -o "$tmp/out/x.exr"
 expect_error "unknown option" "--bogus" -- render "$src/scenes/furnace.glb" --bogus 3 -o "$tmp/out/x.exr"
+expect_error "unknown flag before -o" "--frobnicate: unknown option" -- render "$src/scenes/furnace.glb" --frobnicate -o "$tmp/out/x.exr"
 expect_error "bad number" "--spp" -- render "$src/scenes/furnace.glb" --spp abc -o "$tmp/out/x.exr"
+expect_error "zero samples" "--spp" -- render "$src/scenes/furnace.glb" --spp 0 -o "$tmp/out/x.exr"
+expect_error "missing value" "--spp: missing value" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.exr" --spp
+expect_error "bad method option value" "--chain-length" -- render "$src/scenes/furnace.glb" --method erpt --chain-length 0 -o "$tmp/out/x.exr"
+expect_error "option of another method" "--chain-length.*pt" -- render "$src/scenes/furnace.glb" --method pt --chain-length 5 -o "$tmp/out/x.exr"
 expect_error "bad output extension" "x\.jpg" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.jpg"
 expect_error "missing output directory" "nodir" -- render "$src/scenes/furnace.glb" -o "$tmp/out/nodir/x.exr"
 expect_error "unknown device" "no-such-gpu" -- render "$src/scenes/furnace.glb" --device no-such-gpu -o "$tmp/out/x.exr"

@@ -595,4 +595,40 @@ TEST(SceneFiles, TorusIsUnderTheDomeAndTheLightOutside) {
         ASSERT_GT(glm::length(p - base), outer);
 }
 
+// Every scene file in scenes/ is one of the scenes above (so the tests here and in
+// tests/stat/test_scenes_render.cpp cover it) and has its row in scenes/README.md's table, and
+// every licence file that README names is present.
+TEST(SceneFiles, EverySceneIsListedInTheReadmeWithItsLicence) {
+    const std::filesystem::path dir = pmcr::test::sourcePath("scenes");
+    std::ifstream stream(dir / "README.md");
+    const std::string readme{std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+    ASSERT_FALSE(readme.empty());
+    std::set<std::string> files;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        const auto ext = entry.path().extension();
+        if (ext == ".glb" || ext == ".gltf") files.insert(entry.path().stem().string());
+    }
+    EXPECT_EQ(files, std::set<std::string>(kScenes.begin(), kScenes.end()));
+    for (const std::string& name : kScenes) {
+        SCOPED_TRACE(name);
+        // A table row: "| `name` ..." with a source and a licence column (9 columns).
+        const size_t row = readme.find("\n| `" + name + "`");
+        ASSERT_NE(row, std::string::npos) << "no scenes/README.md row";
+        const std::string line = readme.substr(row + 1, readme.find('\n', row + 1) - row - 1);
+        EXPECT_EQ(std::count(line.begin(), line.end(), '|'), 10) << line;
+    }
+    size_t at = 0;
+    int licences = 0;
+    while ((at = readme.find("`licenses/", at)) != std::string::npos) {
+        const size_t end = readme.find('`', at + 1);
+        const std::string file = readme.substr(at + 1, end - at - 1);
+        if (file.back() != '/') {  // "`licenses/`" names the folder
+            EXPECT_TRUE(std::filesystem::is_regular_file(dir / file)) << file;
+            ++licences;
+        }
+        at = end + 1;
+    }
+    EXPECT_GE(licences, 4);
+}
+
 }  // namespace

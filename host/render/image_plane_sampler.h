@@ -1,0 +1,139 @@
+// PMC-IP's adaptive image-plane sampler (Fan, Lai, Chenney and Dyer, "Population Monte Carlo
+// Samplers for Rendering", sec. 4), as a reusable component: it decides how many camera samples
+// each pixel gets in the next iteration and turns the samples it receives into the pixel
+// estimates. It knows nothing of Vulkan; the integrator that uses it (PMC-IP over `pt` or
+// `direct`, later PMC-HI's feedback loop) traces the samples it asks for.
+//
+// One iteration t:
+//   1. allocate(): each pixel's expected sample count from the mixture weights alpha_ij
+//      (sec. 4.2), then deterministic mixture sampling (sec. 4.3): floor(n'_ij) samples, plus one
+//      more with probability n'_ij - floor(n'_ij), drawn in one systematic (stratified) pass;
+//   2. the caller traces the samples, pixel by pixel, each pixel's samples drawn uniformly over
+//      the pixel from a sequence scrambled afresh for the iteration, and hands each result to
+//      addSample(); a pixel's first `minSamples` samples of an iteration (all of the first
+//      iteration's) are its pilot samples;
+//   3. finishIteration().
+// The image is the average of all the samples each pixel received (the paper's estimator).
+//
+// Why that average is unbiased here, and where pmcr departs from the paper to make it so. The
+// plain average S_ij / n_ij is unbiased when the count n_ij is independent of the pixel's own
+// sample values: given the counts, the samples are uniform over the pixel (eq. 3 with the
+// D-kernel density, sec. 4.1) and their mean has expectation I_ij. The paper's criterion
+// alpha'_ij = sigma-bar^2_ij / tvi(L_ij) breaks this: a pixel whose first samples happened to be
+// dark looks smooth, gets few samples and keeps its dark average, while one that caught a rare
+// bright path gets many and dilutes it, so rare bright paths (caustics) come out too dark on
+// average (tests/host/test_image_plane_sampler.cpp measures it). pmcr therefore computes a
+// pixel's weight from its neighbours only, and only from their pilot samples, whose counts are
+// fixed in advance:
+//   v_kl       = s^2_kl / tvi(L_kl)   pilot sample variance of pixel kl over the threshold at its
+//                                     pilot mean luminance (Ferwerda et al. 1996),
+//   alpha'_ij  = sqrt(mean of v_kl over the neighbours kl of ij within `radius`, ij excluded),
+//   alpha_ij   = epsilon / P + (1 - epsilon) alpha'_ij / Z_-ij,
+// with Z_-ij the sum of all alpha' computed as if pixel ij had no pilot data (v_ij = 0), so that
+// neither the weight nor its normalisation depends on pixel ij's samples. The residual pass's
+// draws are Bernoulli(fraction) for each pixel whatever the other fractions, so n_ij's law
+// depends on other pixels' data only, and E[S_ij / n_ij] = I_ij exactly. The square root makes
+// the allocation n ~ sigma / sqrt(tvi), the one that minimises the expected perceptual error
+// sum sigma^2 / (n tvi) for a fixed budget (a Lagrange multiplier argument); the paper's
+// sigma-bar^2 = sigma^2 / n reaches the same end by iterating, which needs each pixel's own count.
+// Variance is spatially coherent (edges, caustics and soft shadows span several pixels), so the
+// neighbours predict it well; an isolated noisy pixel gets its neighbours' share only. The
+// default 5x5 neighbourhood (radius 2) also averages out the isolated fireflies of a few pilot
+// samples, which with 8 neighbours left rings of wasted samples around each firefly: what is
+// smooth over the image is the rate of fireflies, not where the first few landed.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "image/image.h"
+
+namespace pmcr {
+
+// The mixture weights of a width x height image from each pixel's perceptual pilot variance v
+// (see above): alpha = epsilon / P + (1 - epsilon) alpha' / Z_-ij, alpha' = sqrt of the mean of
+// v over the neighbours within `radius` (the 8 around the pixel for radius 1), Z_-ij = sum of alpha' with v_ij set to 0. Each weight is at least
+// epsilon / P (the paper's defensive term, Hesterberg 1995) and depends on no v_ij of its own
+// pixel; the weights sum to 1 up to the leave-one-out normalisation (exactly 1 when v is 0
+// everywhere: the uniform mixture).
+std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int width, int height,
+                                            double epsilon, int radius = 1);
+
+// Deterministic mixture sampling of expected counts: floor(n'_k) for component k, then one
+// systematic pass with offset u in [0,1) over the fractions n'_k - floor(n'_k): component k gets
+// one more sample with probability exactly its fraction, and the extra samples number
+// ceil(sum of fractions - u) (so the total is exact when the expected counts sum to an integer).
+std::vector<uint32_t> dmsRound(const std::vector<double>& expected, double u);
+
+// Deterministic mixture sampling (PMC-IP sec. 4.3, Hesterberg 1995): `total` samples over the
+// components: `minPerComponent` each first, then n'_k = (total - minPerComponent K) alpha_k;
+// component k gets floor(n'_k) plus one more with probability n'_k - floor(n'_k), the leftover
+// samples drawn from the fractions in one systematic (stratified) pass with offset u in [0,1).
+// The counts always sum to `total` exactly. Requires total >= minPerComponent * K.
+// (The image-plane sampler uses dmsRound on its leave-one-out expected counts.)
+std::vector<uint32_t> dmsAllocate(const std::vector<double>& alpha, uint64_t total,
+                                  uint32_t minPerComponent, double u);
+// The expected count of each component under dmsAllocate (n'_k + minPerComponent).
+std::vector<double> dmsExpectedCounts(const std::vector<double>& alpha, uint64_t total,
+                                      uint32_t minPerComponent);
+
+struct ImagePlaneOptions {
+    double samplesPerIteration = 4.0;  // N / P: average samples per pixel per iteration
+    uint32_t initialSpp = 4;           // the first iteration, uniform
+    double epsilon = 0.01;             // the defensive weight of the uniform component
+    uint32_t minSamples = 1;           // pilot samples every pixel gets in every adaptive iteration
+    double displayWhite = 100.0;       // cd/m^2 that pixel luminance 1 stands for (tvi)
+    int radius = 2;                    // neighbourhood: (2 radius + 1)^2 - 1 pixels
+};
+
+class ImagePlaneSampler {
+public:
+    ImagePlaneSampler(int width, int height, const ImagePlaneOptions& options);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    uint32_t pixelCount() const { return uint32_t(m_count.size()); }
+    uint32_t iteration() const { return m_iteration; }
+
+    // The sample counts of the next iteration: uniform `initialSpp` for the first, then
+    // adaptive; `u` in [0,1) drives the residual pass. Starts the iteration.
+    const std::vector<uint32_t>& allocate(double u);
+    // The result of sample `index` (0, 1, ... within the iteration) of `pixel` (NaN samples
+    // already zeroed). A render stopped mid-iteration just leaves some samples out: which ones
+    // depends on time, not on values.
+    void addSample(uint32_t pixel, uint32_t index, const glm::vec3& radiance);
+    void finishIteration() { ++m_iteration; }
+
+    uint64_t samplesTaken() const { return m_samplesTaken; }
+    // v_ij = s^2_ij / tvi(L_ij) of the pilot samples (0 with fewer than two).
+    std::vector<double> pilotPerceptualVariance() const;
+    // alpha of the last adaptive iteration (uniform before the first).
+    const std::vector<double>& alpha() const { return m_alpha; }
+
+    Image image() const;          // the pixel estimates
+    Image alphaImage() const;     // alpha * P (1 = the uniform share)
+    Image sampleCountImage() const;
+    Image varianceImage() const;  // estimated variance of each pixel estimate (luminance): s^2 / n
+
+private:
+    int m_width;
+    int m_height;
+    ImagePlaneOptions m_options;
+    uint32_t m_iteration = 0;
+    uint64_t m_samplesTaken = 0;
+    std::vector<uint32_t> m_allocated;
+    std::vector<double> m_alpha;
+    // Every sample: radiance sum, count and luminance moments; the pilot samples' luminance
+    // moments and count apart.
+    std::vector<glm::dvec3> m_sum;
+    std::vector<uint32_t> m_count;
+    std::vector<double> m_lumSum;
+    std::vector<double> m_lumSqSum;
+    std::vector<double> m_pilotLumSum;
+    std::vector<double> m_pilotLumSqSum;
+    std::vector<uint32_t> m_pilotCount;
+};
+
+}  // namespace pmcr

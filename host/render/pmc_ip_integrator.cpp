@@ -1,0 +1,198 @@
+#include "render/pmc_ip_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "core/error.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+constexpr uint32_t kMaxRequestsInFlight = 1u << 20;  // per batch: 16 MiB of requests and results
+
+// The render seed of iteration t: every iteration scrambles each pixel's sample sequence afresh,
+// so its samples are independent of the earlier ones that chose its counts (see
+// image_plane_sampler.h).
+uint32_t iterationSeed(uint32_t seed, uint32_t iteration) {
+    uint64_t z = (uint64_t(seed) << 32 | iteration) + 0x9e3779b97f4a7c15ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;  // splitmix64 finaliser
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return uint32_t((z ^ (z >> 31)) >> 32);
+}
+
+}  // namespace
+
+PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(estimator) {
+    m_options.samplesPerIteration = settings.optionDouble("spp-per-iteration", 4.0);
+    if (!(m_options.samplesPerIteration > 0.0 && m_options.samplesPerIteration <= 4096.0))
+        throw Error("--spp-per-iteration: expected a number of samples per pixel in (0, 4096]");
+    const int initial = settings.optionInt("initial-spp", 4);
+    if (initial < 2 || initial > 4096) throw Error("--initial-spp: expected 2..4096");
+    m_options.initialSpp = uint32_t(initial);
+    m_options.epsilon = settings.optionDouble("epsilon", 0.01);
+    if (!(m_options.epsilon > 0.0 && m_options.epsilon <= 1.0))
+        throw Error("--epsilon: expected 0 < epsilon <= 1 (the defensive weight must be positive)");
+    const int minSamples = settings.optionInt("min-spp", 1);
+    if (minSamples < 0 || double(minSamples) > m_options.samplesPerIteration)
+        throw Error("--min-spp: expected 0..spp-per-iteration");
+    m_options.minSamples = uint32_t(minSamples);
+    m_options.radius = settings.optionInt("variance-radius", 2);
+    if (m_options.radius < 1 || m_options.radius > 16) throw Error("--variance-radius: expected 1..16 pixels");
+    const int iterations = settings.optionInt("iterations", 0);
+    if (iterations < 0) throw Error("--iterations: expected a count (0 = from --spp or --time)");
+    m_iterations = uint32_t(iterations);
+    if (estimator == Estimator::Direct) {
+        const int n = settings.optionInt("light-samples", 1);
+        if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
+        m_lightSamples = uint32_t(n);
+    }
+}
+
+RenderOutput PmcIp::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const vk::Kernel& kernel = session.kernel(m_estimator == Estimator::Full ? "pt" : "direct");
+    Film& film = session.film();
+    const uint32_t pixels = film.pixelCount();
+    ImagePlaneSampler sampler(film.width(), film.height(), m_options);
+
+    // Adaptive iterations after the first: asked for, or what --spp allows, or unbounded
+    // under --time alone.
+    uint64_t iterations = m_iterations;
+    if (iterations == 0) {
+        const double spp = settings.spp > 0 ? double(settings.spp)
+                           : settings.timeLimit > 0.0 ? std::numeric_limits<double>::infinity()
+                                                      : double(kDefaultSpp);
+        const double rest = spp - double(m_options.initialSpp);
+        iterations = std::isinf(rest) ? std::numeric_limits<uint32_t>::max()
+                     : rest > 0.0    ? uint64_t(std::ceil(rest / m_options.samplesPerIteration - 1e-9))
+                                     : 0;
+    }
+    const uint64_t totalIterations = iterations + 1;
+    const double budgetSpp = double(m_options.initialSpp) + double(iterations) * m_options.samplesPerIteration;
+
+    const uint32_t capacity = kMaxRequestsInFlight;
+    vk::Buffer requestBuffer(context, uint64_t(capacity) * sizeof(gpu::SampleRequest),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip requests");
+    vk::Buffer resultBuffer(context, uint64_t(capacity) * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                            "pmc-ip results", vk::MemoryUsage::Readback);
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-ip work");
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
+    work.bind(gpu::PT_BINDING_RESULTS, resultBuffer);
+
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_LIST;
+    push.flags = gpu::PT_FLAG_WRITE_RESULTS;
+    push.maxDepth = m_estimator == Estimator::Full ? settings.maxDepth : 1;
+    push.rrDepth = settings.rrDepth;
+    push.lightSamples = m_lightSamples;
+
+    DispatchSizer sizer(std::min<uint32_t>(pixels, 4096), capacity, session.targetDispatchSeconds());
+    const uint32_t dispatchesPerBatch =
+        uint32_t(std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
+    std::mt19937_64 rng(settings.seed);
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    std::vector<gpu::SampleRequest> requests;
+    std::vector<glm::vec4> results;
+    vk::CommandBatch batch(session.layout(), &session.timer());
+    auto resolve = [&] { return sampler.image(); };
+
+    // Host time spent adapting (alpha, DMS) and reducing results, to weigh against the GPU's.
+    double adaptSeconds = 0.0;
+    double reduceSeconds = 0.0;
+    auto since = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+
+    session.startClock();
+    uint64_t iteration = 0;
+    for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
+        const auto adaptStart = std::chrono::steady_clock::now();
+        const std::vector<uint32_t>& counts = sampler.allocate(uniform(rng));
+        adaptSeconds += since(adaptStart);
+        push.seed = iterationSeed(settings.seed, uint32_t(iteration));
+        // Walk the pixels in order, each pixel's samples 0..n-1 of its sequence.
+        uint32_t pixel = 0;
+        uint32_t index = 0;
+        auto nextRequests = [&](uint32_t wanted) {
+            requests.clear();
+            while (requests.size() < wanted && pixel < pixels) {
+                if (index >= counts[pixel]) {
+                    ++pixel;
+                    index = 0;
+                    continue;
+                }
+                requests.push_back({pixel, index++, glm::vec2(0.0f)});
+            }
+        };
+        for (;;) {
+            if (session.shouldStop()) break;
+            const auto batchStart = std::chrono::steady_clock::now();
+            const uint32_t units = sizer.units();
+            nextRequests(std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch));
+            if (requests.empty()) break;
+            requestBuffer.upload(requests);
+            batch.fill(film.counters(), 0);
+            batch.bind(session.scene().descriptorSet());
+            batch.bind(work);
+            const uint32_t n = uint32_t(requests.size());
+            for (uint32_t offset = 0; offset < n; offset += units) {
+                push.requestOffset = offset;
+                push.invocationCount = std::min(units, n - offset);
+                batch.dispatch(kernel, push, push.invocationCount);
+            }
+            const uint32_t dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
+            batch.submitAndWait();
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count();
+            sizer.record(n / dispatches, seconds / dispatches);
+            film.addCounters(session.counters());
+            // Reduce in request order: the same seed gives the same sums.
+            const auto reduceStart = std::chrono::steady_clock::now();
+            results.resize(n);
+            resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
+            for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, requests[k].sampleIndex, glm::vec3(results[k]));
+            reduceSeconds += since(reduceStart);
+
+            const double sppDone = double(sampler.samplesTaken()) / double(pixels);
+            const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
+                                        ? session.elapsedSeconds() / settings.timeLimit
+                                        : sppDone / budgetSpp;
+            session.progress().update(fraction, sppDone, "spp");
+            session.snapshotIfDue(sampler.samplesTaken(), resolve);
+        }
+        sampler.finishIteration();
+        session.snapshotIfDue(sampler.samplesTaken(), resolve);
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    out.image = sampler.image();
+    out.cameraSamples = sampler.samplesTaken();
+    out.samplesPerPixel = double(out.cameraSamples) / double(pixels);
+    out.diagnostics.emplace_back("alpha", sampler.alphaImage());
+    out.diagnostics.emplace_back("samples", sampler.sampleCountImage());
+    out.diagnostics.emplace_back("variance", sampler.varianceImage());
+    out.methodStats["iterations_completed"] = sampler.iteration();
+    out.methodStats["initial_spp"] = m_options.initialSpp;
+    out.methodStats["host_adapt_seconds"] = adaptSeconds;
+    out.methodStats["host_reduce_seconds"] = reduceSeconds;
+    out.methodStats["spp_per_iteration"] = m_options.samplesPerIteration;
+    out.methodStats["epsilon"] = m_options.epsilon;
+    out.methodStats["min_spp"] = m_options.minSamples;
+    if (m_estimator == Estimator::Direct) out.methodStats["light_samples"] = m_lightSamples;
+    uint32_t maxCount = 0;
+    for (float c : sampler.sampleCountImage().rgb) maxCount = std::max(maxCount, uint32_t(c));
+    out.methodStats["max_samples_in_a_pixel"] = maxCount;
+    return out;
+}
+
+}  // namespace pmcr

@@ -1,0 +1,107 @@
+// PMC-IP (pmc-ip over path tracing, pmc-ip-direct over MIS direct lighting) is unbiased: its
+// mean image equals the baseline's pixel by pixel, the furnace gives its analytic answer, and a
+// seed gives the same image bit for bit. The host tests (test_image_plane_sampler.cpp) check
+// the allocation and the estimator itself.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "gpu_test.h"
+#include "render_test.h"
+#include "statistics.h"
+
+namespace pmcr::test {
+namespace {
+
+class PmcIpTest : public GpuTest {};
+
+RenderSettings pmcIpSettings(const std::string& method, int size, uint32_t spp) {
+    RenderSettings s;
+    s.method = method;
+    s.width = size;
+    s.height = size;
+    s.spp = spp;
+    s.maxDepth = 8;
+    return s;
+}
+
+TEST_F(PmcIpTest, SameSeedSameImageBitForBit) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    RenderSettings s = pmcIpSettings("pmc-ip", 32, 12);
+    auto a = renderForTest(scene, s);
+    auto b = renderForTest(scene, s);
+    EXPECT_EQ(a.output.image.rgb, b.output.image.rgb);
+    // The budget, give or take the leave-one-out normalisation (image_plane_sampler.h).
+    EXPECT_NEAR(double(a.output.cameraSamples), 32.0 * 32.0 * 12.0, 0.01 * 32.0 * 32.0 * 12.0);
+    EXPECT_EQ(a.stats["method_stats"]["iterations_completed"].get<int>(), 3);
+    // The diagnostics: alpha map, sample counts, variance.
+    ASSERT_EQ(a.output.diagnostics.size(), 3u);
+    EXPECT_EQ(a.output.diagnostics[0].first, "alpha");
+    double samples = 0.0;
+    for (size_t i = 0; i < a.output.diagnostics[1].second.pixelCount(); ++i)
+        samples += a.output.diagnostics[1].second.rgb[3 * i];
+    EXPECT_EQ(samples, double(a.output.cameraSamples));
+}
+
+TEST_F(PmcIpTest, FurnaceGivesItsAnalyticValue) {
+    for (const char* method : {"pmc-ip", "pmc-ip-direct"}) {
+        const int depth = 3;
+        double sum = 0.0, sumSq = 0.0;
+        const int renders = 4;
+        for (int i = 0; i < renders; ++i) {
+            RenderSettings s = pmcIpSettings(method, 24, 12);
+            s.maxDepth = depth;
+            s.seed = 11 + uint32_t(i);
+            const double m = imageMean(renderForTest(testScene("scenes/furnace.glb"), s).output.image).y;
+            sum += m;
+            sumSq += m * m;
+        }
+        const double mean = sum / renders;
+        const double stderr = std::sqrt(std::max(0.0, sumSq / renders - mean * mean) / (renders - 1));
+        const double expected = 1.0 - std::pow(0.5, std::string(method) == "pmc-ip" ? depth + 1 : 2);
+        EXPECT_NEAR(mean, expected, 5.0 * stderr + 2e-3) << method << ", standard error " << stderr;
+    }
+}
+
+// The mean of independent PMC-IP renders against independent renders of its baseline, per
+// pixel (Sidak-corrected z-test, at least 99.75% of pixels pass, as Mitsuba's render tests).
+void expectUnbiased(RenderSettings method, const std::string& baseline, int renders, int baselineRenders) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    ImageMoments m, b;
+    for (int i = 0; i < renders; ++i) {
+        method.seed = 2000 + uint32_t(i);
+        m.add(renderForTest(scene, method).output.image.rgb);
+    }
+    RenderSettings base = method;
+    base.method = baseline;
+    base.options.clear();
+    if (method.options.count("light-samples")) base.options["light-samples"] = method.options["light-samples"];
+    base.spp = 64;
+    for (int i = 0; i < baselineRenders; ++i) {
+        base.seed = 7000 + uint32_t(i);
+        b.add(renderForTest(scene, base).output.image.rgb);
+    }
+    auto result = pixelZTest(m.mean(), m.variance(), renders, b.mean(), b.variance(), baselineRenders);
+    EXPECT_GE(result.passFraction, 0.9975) << result.describe();
+}
+
+TEST_F(PmcIpTest, UnbiasedAgainstPathTracing) {
+    expectUnbiased(pmcIpSettings("pmc-ip", 20, 24), "pt", 40, 16);
+}
+
+// Without pilot samples after the first iteration (pixels may get no sample in an iteration;
+// the first iteration's samples alone drive the adaptation).
+TEST_F(PmcIpTest, UnbiasedWithoutPilotSamples) {
+    RenderSettings s = pmcIpSettings("pmc-ip", 20, 24);
+    s.options["min-spp"] = "0";
+    expectUnbiased(s, "pt", 40, 16);
+}
+
+TEST_F(PmcIpTest, DirectUnbiasedAgainstMisDirectLighting) {
+    RenderSettings s = pmcIpSettings("pmc-ip-direct", 20, 24);
+    s.options["light-samples"] = "2";
+    expectUnbiased(s, "direct", 40, 16);
+}
+
+}  // namespace
+}  // namespace pmcr::test
