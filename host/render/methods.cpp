@@ -4,6 +4,7 @@
 #include "render/erpt_integrator.h"
 #include "render/pmc_hi.h"
 #include "render/pmc_ip_integrator.h"
+#include "render/pmc_pt_integrator.h"
 #include "render/pt_integrator.h"
 
 namespace pmcr {
@@ -77,7 +78,17 @@ const std::vector<MethodInfo>& methods() {
           {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
          [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""},
         {"pmc-er", "population Monte Carlo energy redistribution", true, {}, nullptr, "issue 8"},
-        {"pmc-pt", "population Monte Carlo path tracing", true, {}, nullptr, "issue 9"},
+        {"pmc-pt", "population Monte Carlo path tracing: a population of pixel positions mutated in disks",
+         true,
+         {{"population", "auto", "members; auto = the paper's 5000 per 640x480 pixels (at least 16)"},
+          {"mutations", "16", "TR: mutations per member per resample step"},
+          {"radii", "5,10,50", "disk radii in pixels, 1 to 3, separated by , or / (strategy image: red, green, blue)"},
+          {"adapt-every", "100", "resample steps between alpha and beta updates (paper 100-200)"},
+          {"resample-rate", "0.4", "share of the population replaced per step (half pool, half beta)"},
+          {"epsilon", "0.01", "floor of the alpha weights"},
+          {"defensive", "0.5", "share of each step's eye paths from the stratified pool (uniform)"},
+          {"estimator", "weighted", "weighted (D-kernel, unbiased) or average (the paper's; biased)", true}},
+         [](const RenderSettings& s) { return std::make_unique<PmcPt>(s); }, ""},
     };
     return list;
 }

@@ -1,0 +1,191 @@
+// PMC-PT's population of pixel positions (Lai, Fan, Chenney and Dyer, "PMC Path Tracing",
+// sec. 4), everything the host decides between two GPU dispatches: the stratified pool of
+// positions, the members and their disk-mixture kernels (eq. 4), the mutations they propose,
+// the density of a step's proposals on the image plane (for the unbiased estimator, see
+// render/pmc_pt_integrator.h), the alpha adaptation (sec. 4.3.3), the perceptual pixel
+// importance beta (sec. 4.3.2) and resampling (sec. 4.3.1-4.3.2). Pure C++, no device.
+//
+// Coordinates are raster positions in pixels: x in [0, width), y in [0, height), pixel (i, j)
+// covering [i, i+1) x [j, j+1).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/random.h"
+
+namespace pmcr {
+
+constexpr int kMaxPopulationRadii = 3;  // the strategy image shows them as red, green, blue
+
+// Running count, sum and sum of squares of a scalar (a sample's luminance).
+struct RunningStats {
+    uint32_t count = 0;
+    double sum = 0.0;
+    double sumSq = 0.0;
+
+    void add(double v) {
+        ++count;
+        sum += v;
+        sumSq += v * v;
+    }
+    void merge(const RunningStats& o) {
+        count += o.count;
+        sum += o.sum;
+        sumSq += o.sumSq;
+    }
+    double mean() const { return count > 0 ? sum / double(count) : 0.0; }
+    // Unbiased sample variance (n - 1); 0 with fewer than two values.
+    double variance() const;
+};
+
+// Area of the disk of radius r centred at c intersected with the rectangle [0,w] x [0,h]
+// (exact: inclusion-exclusion over quadrants, each an integral of the circle's chord).
+double diskRectangleArea(glm::dvec2 c, double r, double w, double h);
+
+// A uniform point of disk(c, r) ∩ [0,w) x [0,h), by rejection from the intersection's bounding
+// box (c must lie in the rectangle). Its density there is 1 / diskRectangleArea(c, r, w, h).
+glm::dvec2 sampleDiskInImage(glm::dvec2 c, double r, double w, double h, Pcg32& rng);
+
+// The alpha update of PMC-PT sec. 4.3.3: alpha'_k = 1 / sigma^2_k, 0 if sigma_k = 0 (also when a
+// component has fewer than two samples, so no spread was seen), alpha_k = eps + (1 - eps)
+// alpha'_k / sum alpha'. The paper's weights sum to 1 + (K - 1) eps; they are normalised here
+// so they stay a mixture. With every alpha' zero nothing was learned and `current` is kept.
+std::array<double, kMaxPopulationRadii> adaptAlpha(
+    const std::array<RunningStats, kMaxPopulationRadii>& tagged, int components, double epsilon,
+    const std::array<double, kMaxPopulationRadii>& current);
+
+// The stratified pool of positions (PMC-PT sec. 4.3.2 "Stratification"): the R2 sequence
+// (Roberts 2018, the 2D golden-ratio Kronecker sequence) over the image, so any run of
+// consecutive positions is evenly spread. Each chunk gets a fresh random toroidal shift
+// (Cranley-Patterson rotation): every position is then uniform over the image given everything
+// drawn before it, which the unbiased estimator's defensive component needs.
+class PositionPool {
+public:
+    PositionPool(int width, int height) : m_width(width), m_height(height) {}
+    std::vector<glm::dvec2> next(uint32_t count, Pcg32& rng);
+    uint64_t used() const { return m_index; }
+
+private:
+    int m_width;
+    int m_height;
+    uint64_t m_index = 0;
+};
+
+// Perceptual pixel importance (PMC-PT sec. 4.3.2): beta_ij ∝ sigma^2_ij / tvi(I_ij), from the
+// luminance of the samples that landed in each pixel and the pixel's current estimate.
+class PixelImportance {
+public:
+    void update(const std::vector<RunningStats>& pixelLuminance,
+                const std::vector<double>& estimateLuminance);
+    bool empty() const { return m_total <= 0.0; }
+    double probability(uint32_t pixel) const;
+    uint32_t samplePixel(double u) const;
+
+private:
+    std::vector<double> m_cdf;  // running sums of beta'
+    double m_total = 0.0;
+};
+
+struct PopulationSettings {
+    uint32_t size = 5000;        // members (paper: 5000 at 640x480)
+    uint32_t mutations = 16;     // TR, mutations per member per resample step
+    std::vector<double> radii = {5.0, 10.0, 50.0};  // disk radii in pixels, 1..3 of them
+    double resampleRate = 0.4;   // share of the population replaced per step
+    double epsilon = 0.01;       // floor of the alpha weights
+};
+
+// One camera-sample position a step asks the path tracer for.
+struct PositionDraw {
+    static constexpr uint32_t kPool = 0xffffffffu;
+    glm::dvec2 position;
+    uint32_t member;     // the member whose kernel proposed it, or kPool
+    uint32_t component;  // the radius it was drawn with (members only)
+};
+
+struct PopulationMember {
+    glm::dvec2 position{0.0};
+    std::array<double, kMaxPopulationRadii> alpha{};
+    std::array<double, kMaxPopulationRadii> area{};  // |disk_k ∩ image|, for the density
+    uint32_t stepsUsed = 0;  // N_used: resample steps since (re)generation
+    std::array<RunningStats, kMaxPopulationRadii> tagged{};  // luminance per component since then
+    RunningStats all() const;
+};
+
+struct ResampleCounts {
+    uint32_t eliminated = 0;
+    uint32_t fromPool = 0;
+    uint32_t fromImportance = 0;
+};
+
+class PixelPopulation {
+public:
+    // The initial population: one member in each cell of a jittered grid of about `size` cells.
+    PixelPopulation(const PopulationSettings& settings, int width, int height, Pcg32& rng);
+
+    const PopulationSettings& settings() const { return m_settings; }
+    const std::vector<PopulationMember>& members() const { return m_members; }
+    int components() const { return int(m_settings.radii.size()); }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+    // Each member's TR mutations (PMC-PT eq. 4): component k with probability alpha_k, then a
+    // uniform point of the disk of radius d_k around the member, inside the image. All of a
+    // step's mutations start from the member's position at the start of the step, so the step's
+    // proposal density is known (ProposalDensity). Appends member by member, in order.
+    void drawMutations(Pcg32& rng, std::vector<PositionDraw>& out) const;
+    // Tags a mutation's luminance with its member and component (sec. 4.3.1, 4.3.3).
+    void record(const PositionDraw& draw, double luminance);
+    // Ends a resample step: every member has been used once more.
+    void endStep();
+    // The alpha update for every member (sec. 4.3.3).
+    void adapt();
+    // Elimination and regeneration (sec. 4.3.1-4.3.2): round(rate n) members are eliminated, the
+    // survivors drawn without replacement with probability ∝ w_i = sigma^2_i / N_used
+    // (Efraimidis-Spirakis keys; members with w = 0 go first). Half of the replacements take the
+    // next of `poolPositions`, half a pixel drawn ∝ beta jittered by one pixel (all from the
+    // pool while beta is empty). New members get uniform alpha.
+    ResampleCounts resample(Pcg32& rng, const std::vector<glm::dvec2>& poolPositions,
+                            const PixelImportance& importance);
+
+    // Replacements per step, and how many of them come from the pool.
+    uint32_t replacementsPerStep() const;
+    uint32_t poolReplacementsPerStep(bool importanceAvailable) const;
+
+    // A member at `position` with uniform alpha and no history.
+    PopulationMember makeMember(glm::dvec2 position) const;
+
+private:
+    PopulationSettings m_settings;
+    int m_width;
+    int m_height;
+    std::vector<PopulationMember> m_members;
+};
+
+// The density of one step's proposals on the image plane, summed over the step's draws:
+//   Q(x) = sum_i sum_k TR alpha_ik 1[|x - y_i| < d_k] / |disk_k(y_i) ∩ image| + D / (w h),
+// D the step's pool draws (each uniform over the image). Members are bucketed in a grid of
+// cells as large as the largest radius, so Q(x) looks at 3x3 cells.
+class ProposalDensity {
+public:
+    ProposalDensity(const PixelPopulation& population, uint32_t poolDraws);
+    double operator()(glm::dvec2 x) const;
+
+private:
+    double m_uniform;
+    int m_components;
+    std::array<double, kMaxPopulationRadii> m_radiusSq{};
+    double m_cell;
+    int m_cellsX;
+    int m_cellsY;
+    std::vector<uint32_t> m_cellStart;  // members of cell c: entries start[c]..start[c+1]
+    // Members grouped by cell, as Q needs them (structure of arrays, so the loop vectorises):
+    // position and TR alpha_ik / area_ik per component (0 past the last component).
+    std::vector<double> m_x, m_y;
+    std::array<std::vector<double>, kMaxPopulationRadii> m_weight;
+};
+
+}  // namespace pmcr

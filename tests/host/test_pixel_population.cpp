@@ -1,0 +1,307 @@
+// PMC-PT's host side (render/pixel_population.h) against direct references: the disk-rectangle
+// area against numerical integration, disk sampling and a step's proposals against their
+// densities (chi-square), the alpha and beta updates against the paper's formulas, the pool's
+// stratification and the resampling proportions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "image/tvi.h"
+#include "render/pixel_population.h"
+#include "statistics.h"
+
+namespace pmcr::test {
+namespace {
+
+// Midpoint-rule area of disk(c, r) ∩ [0,w] x [0,h] on an n x n grid over the rectangle.
+double numericArea(glm::dvec2 c, double r, double w, double h, int n = 2000) {
+    double inside = 0.0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double x = (i + 0.5) * w / n - c.x, y = (j + 0.5) * h / n - c.y;
+            if (x * x + y * y < r * r) inside += 1.0;
+        }
+    return inside * w * h / (double(n) * n);
+}
+
+TEST(PixelPopulation, DiskRectangleAreaMatchesNumericalIntegration) {
+    const double pi = std::numbers::pi;
+    EXPECT_NEAR(diskRectangleArea({50, 50}, 5, 100, 100), pi * 25, 1e-9);   // inside
+    EXPECT_NEAR(diskRectangleArea({5, 5}, 50, 10, 10), 100.0, 1e-9);        // covers it
+    EXPECT_NEAR(diskRectangleArea({0, 0}, 5, 100, 100), pi * 25 / 4, 1e-9); // a corner
+    EXPECT_NEAR(diskRectangleArea({0, 50}, 5, 100, 100), pi * 25 / 2, 1e-9);// an edge
+    const struct {
+        glm::dvec2 c;
+        double r, w, h;
+    } cases[] = {{{3, 4}, 10, 32, 24}, {{30, 2}, 5, 32, 24}, {{16, 12}, 13, 32, 24},
+                 {{1.5, 22.5}, 50, 32, 24}, {{7.25, 0.5}, 7, 24, 24}, {{23.9, 23.9}, 3, 24, 24}};
+    for (const auto& t : cases) {
+        const double exact = diskRectangleArea(t.c, t.r, t.w, t.h);
+        const double numeric = numericArea(t.c, t.r, t.w, t.h);
+        EXPECT_NEAR(exact, numeric, 2e-3 * t.w * t.h / 100.0 + 1e-3 * numeric)
+            << "centre " << t.c.x << "," << t.c.y << " radius " << t.r;
+    }
+}
+
+// Area of disk(c, r) ∩ the cell [x0, x1) x [y0, y1).
+double diskCellArea(glm::dvec2 c, double r, double x0, double y0, double x1, double y1) {
+    return diskRectangleArea(c - glm::dvec2(x0, y0), r, x1 - x0, y1 - y0);
+}
+
+TEST(PixelPopulation, DiskSamplesAreUniformInsideTheImage) {
+    const double w = 24, h = 16;
+    Pcg32 rng(7);
+    for (const auto& [c, r] : std::vector<std::pair<glm::dvec2, double>>{
+             {{12, 8}, 5}, {{1, 1}, 10}, {{23, 8}, 50}}) {
+        const double area = diskRectangleArea(c, r, w, h);
+        const int cells = 8;  // 8 x 8 cells over the image
+        std::vector<double> observed(cells * cells, 0.0), expected(cells * cells, 0.0);
+        const int n = 40000;
+        for (int i = 0; i < n; ++i) {
+            const glm::dvec2 p = sampleDiskInImage(c, r, w, h, rng);
+            ASSERT_TRUE(p.x >= 0 && p.x < w && p.y >= 0 && p.y < h);
+            ASSERT_LT(glm::length(p - c), r);
+            observed[int(p.y / h * cells) * cells + int(p.x / w * cells)] += 1.0;
+        }
+        for (int j = 0; j < cells; ++j)
+            for (int i = 0; i < cells; ++i)
+                expected[j * cells + i] = n * diskCellArea(c, r, i * w / cells, j * h / cells,
+                                                           (i + 1) * w / cells, (j + 1) * h / cells) /
+                                          area;
+        const Chi2Result chi2 = chi2Test(observed, expected);
+        EXPECT_GT(chi2.pValue, sidakLevel(0.01, 3)) << chi2.describe();
+    }
+}
+
+std::array<RunningStats, kMaxPopulationRadii> tagged(std::vector<std::vector<double>> values) {
+    std::array<RunningStats, kMaxPopulationRadii> t{};
+    for (size_t k = 0; k < values.size(); ++k)
+        for (double v : values[k]) t[k].add(v);
+    return t;
+}
+
+TEST(PixelPopulation, AlphaFollowsTheInverseVariances) {
+    // Variances 2, 8 and 0 (PMC-PT sec. 4.3.3): alpha' = 1/2, 1/8, 0.
+    const auto t = tagged({{1, 3}, {0, 4}, {5, 5, 5}});
+    ASSERT_DOUBLE_EQ(t[0].variance(), 2.0);
+    ASSERT_DOUBLE_EQ(t[1].variance(), 8.0);
+    const double eps = 0.01;
+    const auto a = adaptAlpha(t, 3, eps, {1.0 / 3, 1.0 / 3, 1.0 / 3});
+    const double sum = 0.5 + 0.125, norm = 3 * eps + 1 - eps;
+    EXPECT_NEAR(a[0], (eps + (1 - eps) * 0.5 / sum) / norm, 1e-12);
+    EXPECT_NEAR(a[1], (eps + (1 - eps) * 0.125 / sum) / norm, 1e-12);
+    EXPECT_NEAR(a[2], eps / norm, 1e-12);
+    EXPECT_NEAR(a[0] + a[1] + a[2], 1.0, 1e-12);
+    // A component with one sample has no variance yet; nothing learned keeps the weights.
+    const auto b = adaptAlpha(tagged({{1}, {2}, {}}), 3, eps, {0.2, 0.3, 0.5});
+    EXPECT_EQ(b[0], 0.2);
+    EXPECT_EQ(b[2], 0.5);
+    // Two components.
+    const auto c = adaptAlpha(tagged({{0, 2}, {0, 1}}), 2, 0.0, {0.5, 0.5});
+    EXPECT_NEAR(c[0], 0.5 / 2.5, 1e-12);
+    EXPECT_NEAR(c[1], 2.0 / 2.5, 1e-12);
+}
+
+TEST(PixelPopulation, BetaIsVarianceOverTvi) {
+    std::vector<RunningStats> pixels(4);
+    pixels[0].add(0.0), pixels[0].add(2.0);   // variance 2
+    pixels[1].add(1.0), pixels[1].add(1.0);   // variance 0
+    pixels[2].add(0.5);                       // one sample: no variance
+    pixels[3].add(0.0), pixels[3].add(10.0);  // variance 50
+    const std::vector<double> estimate = {1.0, 1.0, 0.5, 5.0};
+    PixelImportance beta;
+    beta.update(pixels, estimate);
+    const double b0 = 2.0 / tvi(1.0), b3 = 50.0 / tvi(5.0);
+    EXPECT_NEAR(beta.probability(0), b0 / (b0 + b3), 1e-12);
+    EXPECT_EQ(beta.probability(1), 0.0);
+    EXPECT_EQ(beta.probability(2), 0.0);
+    EXPECT_NEAR(beta.probability(3), b3 / (b0 + b3), 1e-12);
+    Pcg32 rng(3);
+    std::vector<double> observed(4, 0.0), expected(4);
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) observed[beta.samplePixel(rng.nextDouble())] += 1.0;
+    for (int p = 0; p < 4; ++p) expected[p] = n * beta.probability(uint32_t(p));
+    EXPECT_EQ(observed[1] + observed[2], 0.0);
+    const Chi2Result chi2 = chi2Test({observed[0], observed[3]}, {expected[0], expected[3]});
+    EXPECT_GT(chi2.pValue, 0.001) << chi2.describe();
+}
+
+TEST(PixelPopulation, PoolCoversTheImageEvenly) {
+    PositionPool pool(8, 6);
+    Pcg32 rng(11);
+    std::vector<int> counts(48, 0);
+    for (int chunk = 0; chunk < 4; ++chunk)
+        for (const glm::dvec2& p : pool.next(1200, rng)) {
+            ASSERT_TRUE(p.x >= 0 && p.x < 8 && p.y >= 0 && p.y < 6);
+            ++counts[int(p.y) * 8 + int(p.x)];
+        }
+    // 100 per pixel; a stratified chunk is far more even than Poisson's +-30 (3 sigma).
+    for (int c : counts) {
+        EXPECT_GE(c, 90);
+        EXPECT_LE(c, 110);
+    }
+}
+
+PopulationSettings smallSettings(uint32_t size) {
+    PopulationSettings s;
+    s.size = size;
+    s.mutations = 4;
+    s.radii = {2.0, 4.0, 12.0};
+    return s;
+}
+
+TEST(PixelPopulation, ResamplingReplacesFortyPercentHalfFromEachSource) {
+    Pcg32 rng(5);
+    PixelPopulation population(smallSettings(1000), 40, 30, rng);
+    PositionPool pool(40, 30);
+    const auto positions = pool.next(1000, rng);
+    PixelImportance empty;
+    ResampleCounts c = population.resample(rng, positions, empty);
+    EXPECT_EQ(c.eliminated, 400u);
+    EXPECT_EQ(c.fromPool, 400u);  // no beta yet: all from the pool
+    EXPECT_EQ(c.fromImportance, 0u);
+    std::vector<RunningStats> pixels(40 * 30);
+    for (auto& p : pixels) p.add(0.0), p.add(1.0);
+    PixelImportance beta;
+    beta.update(pixels, std::vector<double>(pixels.size(), 0.5));
+    c = population.resample(rng, positions, beta);
+    EXPECT_EQ(c.eliminated, 400u);
+    EXPECT_EQ(c.fromPool, 200u);
+    EXPECT_EQ(c.fromImportance, 200u);
+    for (const auto& m : population.members()) {
+        EXPECT_TRUE(m.position.x >= 0 && m.position.x < 40 && m.position.y >= 0 && m.position.y < 30);
+        EXPECT_NEAR(m.alpha[0] + m.alpha[1] + m.alpha[2], 1.0, 1e-12);
+    }
+}
+
+// Members regenerated from beta land within one pixel of a pixel drawn ∝ beta.
+TEST(PixelPopulation, ImportanceReplacementsLandNearImportantPixels) {
+    Pcg32 rng(9);
+    PopulationSettings s = smallSettings(200);
+    s.resampleRate = 1.0;
+    PixelPopulation population(s, 20, 20, rng);
+    std::vector<RunningStats> pixels(400);
+    pixels[5 * 20 + 7].add(0.0), pixels[5 * 20 + 7].add(1.0);  // only pixel (7, 5) matters
+    PixelImportance beta;
+    beta.update(pixels, std::vector<double>(400, 0.5));
+    PositionPool pool(20, 20);
+    population.resample(rng, pool.next(200, rng), beta);
+    // Replacements go in member order, the pool's first: members 100..199 come from beta.
+    for (uint32_t i = 100; i < 200; ++i) {
+        const glm::dvec2 p = population.members()[i].position;
+        EXPECT_LE(std::abs(p.x - 7.5), 1.0);
+        EXPECT_LE(std::abs(p.y - 5.5), 1.0);
+    }
+}
+
+// Survivors are drawn with probability ∝ w = sigma^2 / N_used: with one survivor of two, the
+// member of weight 3 survives against weight 2 3/5 of the time; members with w = 0 always go first.
+TEST(PixelPopulation, SurvivalIsProportionalToTheEliminationWeight) {
+    PopulationSettings s = smallSettings(2);
+    s.resampleRate = 0.5;
+    const PixelImportance empty;
+    Pcg32 rng(13);
+    int firstSurvived = 0;
+    const int trials = 8000;
+    for (int t = 0; t < trials; ++t) {
+        PixelPopulation population(s, 16, 16, rng);
+        // Member 0: variance 3, member 1: variance 2, both over one step (N_used = 1).
+        population.record({{1, 1}, 0, 0}, 0.0);
+        population.record({{1, 1}, 0, 0}, std::sqrt(6.0));
+        population.record({{1, 1}, 1, 1}, 0.0);
+        population.record({{1, 1}, 1, 1}, 2.0);
+        population.endStep();
+        const glm::dvec2 before = population.members()[0].position;
+        std::vector<glm::dvec2> positions = {{15.5, 15.5}};
+        population.resample(rng, positions, empty);
+        if (population.members()[0].position == before) ++firstSurvived;
+    }
+    const double p = 3.0 / 5.0;
+    const double sd = std::sqrt(p * (1 - p) / trials);
+    EXPECT_NEAR(double(firstSurvived) / trials, p, 4.5 * sd);
+
+    PopulationSettings s4 = smallSettings(4);
+    s4.resampleRate = 0.5;
+    PixelPopulation population(s4, 16, 16, rng);
+    for (uint32_t i : {1u, 3u}) {
+        population.record({{1, 1}, i, 0}, 0.0);
+        population.record({{1, 1}, i, 0}, 1.0);
+    }
+    population.endStep();
+    const auto before = population.members();
+    population.resample(rng, {{15.5, 15.5}, {15.5, 15.5}}, empty);
+    EXPECT_EQ(population.members()[1].position, before[1].position);
+    EXPECT_EQ(population.members()[3].position, before[3].position);
+    EXPECT_NE(population.members()[0].position, before[0].position);
+    EXPECT_NE(population.members()[2].position, before[2].position);
+}
+
+// Brute-force Q(x) (the ProposalDensity formula, member by member).
+double bruteForceDensity(const PixelPopulation& population, glm::dvec2 x, uint32_t poolDraws) {
+    double q = poolDraws / double(population.width() * population.height());
+    for (const auto& m : population.members())
+        for (int k = 0; k < population.components(); ++k) {
+            const double r = population.settings().radii[size_t(k)];
+            if (glm::length(x - m.position) < r)
+                q += population.settings().mutations * m.alpha[size_t(k)] / m.area[size_t(k)];
+        }
+    return q;
+}
+
+// A step's draws (mutations and pool) follow Q / (number of draws): the grid lookup matches the
+// brute-force sum, Q integrates to the number of draws, and a histogram of many steps' draws
+// passes a chi-square test against the cells' integrals of Q.
+TEST(PixelPopulation, StepDrawsFollowTheirProposalDensity) {
+    const int w = 24, h = 16;
+    Pcg32 rng(17);
+    PopulationSettings s = smallSettings(12);
+    PixelPopulation population(s, w, h, rng);
+    // Unequal alphas, as after adaptation.
+    for (uint32_t i = 0; i < 12; ++i) {
+        population.record({{0, 0}, i, i % 3}, 0.0);
+        population.record({{0, 0}, i, i % 3}, 1.0 + i);
+        population.record({{0, 0}, i, (i + 1) % 3}, 0.0);
+        population.record({{0, 0}, i, (i + 1) % 3}, 0.5);
+    }
+    population.adapt();
+    const uint32_t poolDraws = 20;
+    const ProposalDensity q(population, poolDraws);
+    for (int t = 0; t < 200; ++t) {
+        const glm::dvec2 x(rng.nextDouble() * w, rng.nextDouble() * h);
+        EXPECT_NEAR(q(x), bruteForceDensity(population, x, poolDraws), 1e-12);
+    }
+    const double draws = 12.0 * s.mutations + poolDraws;
+    const int cells = 8;
+    std::vector<double> expected(cells * cells, 0.0), observed(cells * cells, 0.0);
+    double integral = 0.0;
+    for (int j = 0; j < cells; ++j)
+        for (int i = 0; i < cells; ++i) {
+            const double x0 = i * double(w) / cells, y0 = j * double(h) / cells;
+            const double x1 = (i + 1) * double(w) / cells, y1 = (j + 1) * double(h) / cells;
+            double e = poolDraws * (x1 - x0) * (y1 - y0) / (w * h);
+            for (const auto& m : population.members())
+                for (int k = 0; k < 3; ++k)
+                    e += s.mutations * m.alpha[size_t(k)] *
+                         diskCellArea(m.position, s.radii[size_t(k)], x0, y0, x1, y1) /
+                         m.area[size_t(k)];
+            expected[j * cells + i] = e;
+            integral += e;
+        }
+    EXPECT_NEAR(integral, draws, 1e-9 * draws);
+    PositionPool pool(w, h);
+    const int steps = 300;
+    for (int t = 0; t < steps; ++t) {
+        std::vector<PositionDraw> out;
+        population.drawMutations(rng, out);
+        for (const glm::dvec2& p : pool.next(poolDraws, rng)) out.push_back({p, PositionDraw::kPool, 0});
+        for (const auto& d : out)
+            observed[int(d.position.y / h * cells) * cells + int(d.position.x / w * cells)] += 1.0;
+    }
+    for (double& e : expected) e *= steps;
+    const Chi2Result chi2 = chi2Test(observed, expected);
+    EXPECT_GT(chi2.pValue, 0.001) << chi2.describe();
+}
+
+}  // namespace
+}  // namespace pmcr::test
