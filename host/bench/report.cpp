@@ -103,8 +103,23 @@ void writeText(const fs::path& path, const std::string& text) {
 }
 
 // Scalar images (alpha maps, sample densities, variances) as false colour of their luminance
-// from 0 to their maximum.
+// from 0 to their maximum; colour images (strategy images: red/green/blue = one strategy each)
+// as they are, scaled by their largest component.
 Image diagnosticColors(const Image& image, float* maxValue) {
+    bool grey = true;
+    float largestComponent = 0.0f;
+    for (size_t i = 0; i < image.pixelCount(); ++i) {
+        const float* p = &image.rgb[3 * i];
+        grey = grey && p[0] == p[1] && p[1] == p[2];
+        for (int c = 0; c < 3; ++c)
+            if (std::isfinite(p[c])) largestComponent = std::max(largestComponent, p[c]);
+    }
+    if (!grey) {
+        *maxValue = largestComponent > 0.0f ? largestComponent : 1.0f;
+        Image scaled = image;
+        for (float& v : scaled.rgb) v = std::isfinite(v) ? std::max(v, 0.0f) / *maxValue : 0.0f;
+        return scaled;
+    }
     std::vector<float> values(image.pixelCount());
     float largest = 0.0f;
     for (size_t i = 0; i < values.size(); ++i) {
