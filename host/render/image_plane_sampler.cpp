@@ -11,26 +11,6 @@ namespace pmcr {
 
 namespace {
 
-// The systematic residual pass: the k-th extra sample goes where the running sum of
-// fraction * scale passes u + k. With `exactExtra` the pass is scaled to make exactly that many
-// picks (rounding can leave the last one unmade: it belongs to the last component with a
-// fraction, whose interval ends at the total).
-void systematicResidual(const std::vector<double>& fraction, double u, double scale,
-                        const uint64_t* exactExtra, std::vector<uint32_t>& counts) {
-    double cumulative = 0.0;
-    uint64_t picked = 0;
-    size_t lastWithFraction = 0;
-    for (size_t k = 0; k < fraction.size(); ++k) {
-        if (fraction[k] > 0.0) lastWithFraction = k;
-        cumulative += fraction[k] * scale;
-        while (u + double(picked) < cumulative && (!exactExtra || picked < *exactExtra)) {
-            counts[k] += 1;
-            ++picked;
-        }
-    }
-    if (exactExtra && picked < *exactExtra) counts[lastWithFraction] += uint32_t(*exactExtra - picked);
-}
-
 // The mean of v over the neighbours of (x, y) within `radius` (a square, the pixel itself
 // excluded) inside the image, and how many there are.
 std::pair<double, int> neighbourMean(const std::vector<double>& v, int width, int height, int x, int y,
@@ -90,16 +70,6 @@ std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int wi
     return alpha;
 }
 
-std::vector<double> dmsExpectedCounts(const std::vector<double>& alpha, uint64_t total,
-                                      uint32_t minPerComponent) {
-    const uint64_t reserved = uint64_t(minPerComponent) * alpha.size();
-    if (total < reserved) throw Error("deterministic mixture sampling: fewer samples than the minimum");
-    const double adaptive = double(total - reserved);
-    std::vector<double> expected(alpha.size());
-    for (size_t k = 0; k < alpha.size(); ++k) expected[k] = double(minPerComponent) + adaptive * alpha[k];
-    return expected;
-}
-
 std::vector<uint32_t> dmsRound(const std::vector<double>& expected, double u) {
     std::vector<uint32_t> counts(expected.size());
     std::vector<double> fraction(expected.size());
@@ -108,30 +78,17 @@ std::vector<uint32_t> dmsRound(const std::vector<double>& expected, double u) {
         counts[k] = uint32_t(whole);
         fraction[k] = std::max(0.0, expected[k]) - whole;
     }
-    systematicResidual(fraction, u, 1.0, nullptr, counts);
-    return counts;
-}
-
-std::vector<uint32_t> dmsAllocate(const std::vector<double>& alpha, uint64_t total,
-                                  uint32_t minPerComponent, double u) {
-    const std::vector<double> expected = dmsExpectedCounts(alpha, total, minPerComponent);
-    std::vector<uint32_t> counts(alpha.size());
-    std::vector<double> fraction(alpha.size());
-    uint64_t assigned = 0;
-    double fractionSum = 0.0;
-    for (size_t k = 0; k < alpha.size(); ++k) {
-        const double whole = std::floor(expected[k]);
-        counts[k] = uint32_t(whole);
-        assigned += counts[k];
-        fraction[k] = expected[k] - whole;
-        fractionSum += fraction[k];
+    // One systematic pass: the k-th extra sample goes where the running sum of the fractions
+    // passes u + k, so component k gets one with probability exactly its fraction.
+    double cumulative = 0.0;
+    uint64_t picked = 0;
+    for (size_t k = 0; k < fraction.size(); ++k) {
+        cumulative += fraction[k];
+        while (u + double(picked) < cumulative) {
+            counts[k] += 1;
+            ++picked;
+        }
     }
-    if (assigned > total) throw Error("deterministic mixture sampling: weights sum above one");
-    const uint64_t residual = total - assigned;
-    if (residual == 0) return counts;
-    // The fractions sum to the residual up to rounding: scale them so they do exactly.
-    systematicResidual(fraction, u, fractionSum > 0.0 ? double(residual) / fractionSum : 0.0, &residual,
-                       counts);
     return counts;
 }
 

@@ -61,23 +61,12 @@ namespace pmcr {
 std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int width, int height,
                                             double epsilon, int radius = 1);
 
-// Deterministic mixture sampling of expected counts: floor(n'_k) for component k, then one
+// Deterministic mixture sampling (PMC-IP sec. 4.3, Hesterberg 1995) of expected counts n'_k:
+// floor(n'_k) for component k, then one
 // systematic pass with offset u in [0,1) over the fractions n'_k - floor(n'_k): component k gets
 // one more sample with probability exactly its fraction, and the extra samples number
 // ceil(sum of fractions - u) (so the total is exact when the expected counts sum to an integer).
 std::vector<uint32_t> dmsRound(const std::vector<double>& expected, double u);
-
-// Deterministic mixture sampling (PMC-IP sec. 4.3, Hesterberg 1995): `total` samples over the
-// components: `minPerComponent` each first, then n'_k = (total - minPerComponent K) alpha_k;
-// component k gets floor(n'_k) plus one more with probability n'_k - floor(n'_k), the leftover
-// samples drawn from the fractions in one systematic (stratified) pass with offset u in [0,1).
-// The counts always sum to `total` exactly. Requires total >= minPerComponent * K.
-// (The image-plane sampler uses dmsRound on its leave-one-out expected counts.)
-std::vector<uint32_t> dmsAllocate(const std::vector<double>& alpha, uint64_t total,
-                                  uint32_t minPerComponent, double u);
-// The expected count of each component under dmsAllocate (n'_k + minPerComponent).
-std::vector<double> dmsExpectedCounts(const std::vector<double>& alpha, uint64_t total,
-                                      uint32_t minPerComponent);
 
 struct ImagePlaneOptions {
     double samplesPerIteration = 4.0;  // N / P: average samples per pixel per iteration
@@ -92,9 +81,6 @@ class ImagePlaneSampler {
 public:
     ImagePlaneSampler(int width, int height, const ImagePlaneOptions& options);
 
-    int width() const { return m_width; }
-    int height() const { return m_height; }
-    uint32_t pixelCount() const { return uint32_t(m_count.size()); }
     uint32_t iteration() const { return m_iteration; }
 
     // The sample counts of the next iteration: uniform `initialSpp` for the first, then
@@ -107,17 +93,15 @@ public:
     void finishIteration() { ++m_iteration; }
 
     uint64_t samplesTaken() const { return m_samplesTaken; }
-    // v_ij = s^2_ij / tvi(L_ij) of the pilot samples (0 with fewer than two).
-    std::vector<double> pilotPerceptualVariance() const;
-    // alpha of the last adaptive iteration (uniform before the first).
-    const std::vector<double>& alpha() const { return m_alpha; }
-
     Image image() const;          // the pixel estimates
     Image alphaImage() const;     // alpha * P (1 = the uniform share)
     Image sampleCountImage() const;
     Image varianceImage() const;  // estimated variance of each pixel estimate (luminance): s^2 / n
 
 private:
+    // v_ij = s^2_ij / tvi(L_ij) of the pilot samples (0 with fewer than two).
+    std::vector<double> pilotPerceptualVariance() const;
+
     int m_width;
     int m_height;
     ImagePlaneOptions m_options;

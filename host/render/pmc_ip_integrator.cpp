@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <random>
 
 #include "core/error.h"
+#include "core/random.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -15,16 +15,6 @@ namespace pmcr {
 namespace {
 
 constexpr uint32_t kMaxRequestsInFlight = 1u << 20;  // per batch: 16 MiB of requests and results
-
-// The render seed of iteration t: every iteration scrambles each pixel's sample sequence afresh,
-// so its samples are independent of the earlier ones that chose its counts (see
-// image_plane_sampler.h).
-uint32_t iterationSeed(uint32_t seed, uint32_t iteration) {
-    uint64_t z = (uint64_t(seed) << 32 | iteration) + 0x9e3779b97f4a7c15ull;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;  // splitmix64 finaliser
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return uint32_t((z ^ (z >> 31)) >> 32);
-}
 
 }  // namespace
 
@@ -125,8 +115,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     DispatchSizer sizer(std::min<uint32_t>(pixels, 4096), capacity, session.targetDispatchSeconds());
     const uint32_t dispatchesPerBatch =
         uint32_t(std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
-    std::mt19937_64 rng(settings.seed);
-    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    // The residual passes' offsets and each iteration's render seed: every iteration scrambles
+    // each pixel's sample sequence afresh, so its samples are independent of the earlier ones
+    // (see image_plane_sampler.h).
+    Pcg32 rng(settings.seed, 0x504d432d4950ULL);  // "PMC-IP"
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
     vk::CommandBatch batch(session.layout(), &session.timer());
@@ -143,9 +135,9 @@ RenderOutput PmcIp::render(RenderSession& session) {
     uint64_t iteration = 0;
     for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
         const auto adaptStart = std::chrono::steady_clock::now();
-        const std::vector<uint32_t>& counts = sampler.allocate(uniform(rng));
+        const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble());
         adaptSeconds += since(adaptStart);
-        push.seed = iterationSeed(settings.seed, uint32_t(iteration));
+        push.seed = rng.nextUint();
         // Walk the pixels in order, each pixel's samples 0..n-1 of its sequence.
         uint32_t pixel = 0;
         uint32_t index = 0;
@@ -261,7 +253,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         out.methodStats["feedback"] = m_feedback;
     }
     uint32_t maxCount = 0;
-    for (float c : sampler.sampleCountImage().rgb) maxCount = std::max(maxCount, uint32_t(c));
+    for (float c : out.diagnostics[1].second.rgb) maxCount = std::max(maxCount, uint32_t(c));
     out.methodStats["max_samples_in_a_pixel"] = maxCount;
     return out;
 }

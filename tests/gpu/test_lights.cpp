@@ -11,6 +11,7 @@
 #include "gpu_test.h"
 #include "render/gpu_scene.h"
 #include "scene/scene.h"
+#include "scene_builder.h"
 
 namespace pmcr::test {
 namespace {
@@ -21,39 +22,19 @@ struct LightsPush {
     uint32_t seed;
 };
 
-gpu::Material material(const glm::vec3& emission, bool doubleSided) {
-    gpu::Material m{};
-    m.baseColor = glm::vec3(0.5f);
-    m.baseColorTexture = -1;
-    m.emission = emission;
-    m.flags = doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
-    m.roughness = 1.0f;
-    m.ior = 1.5f;
-    return m;
-}
-
 // A floor that does not emit and four emitters of different area, orientation and radiance,
 // one of them double-sided.
 Scene lightsScene() {
     Scene s;
     s.path = "lights-test.gltf";
-    s.materials = {material(glm::vec3(0.0f), false), material(glm::vec3(1.0f), false),
-                   material(glm::vec3(4.0f, 2.0f, 1.0f), false),
-                   material(glm::vec3(0.5f, 0.5f, 2.0f), true)};
-    auto add = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t m) {
-        const uint32_t base = uint32_t(s.vertices.size());
-        for (const glm::vec3& p : {a, b, c}) {
-            gpu::Vertex v{};
-            v.position = p;
-            s.vertices.push_back(v);
-        }
-        s.triangles.push_back({base, base + 1, base + 2, m});
-    };
-    add({-5, 0, -5}, {5, 0, -5}, {-5, 0, 5}, 0);
-    add({0, 2, 0}, {1, 2, 0}, {0, 2, 1}, 1);                       // area 0.5
-    add({2, 1, 0}, {4, 1, 0}, {2, 3, 0}, 2);                       // area 2, facing +z
-    add({-3, 1, 0}, {-3, 1, 1}, {-3, 3, 0.5f}, 3);                 // area 1, double-sided
-    add({1, 0.5f, 1}, {1.3f, 0.7f, 1.1f}, {0.9f, 0.9f, 1.4f}, 1);  // small, tilted
+    s.materials = {testMaterial(glm::vec3(0.0f), false), testMaterial(glm::vec3(1.0f), false),
+                   testMaterial(glm::vec3(4.0f, 2.0f, 1.0f), false),
+                   testMaterial(glm::vec3(0.5f, 0.5f, 2.0f), true)};
+    addTriangle(s, {-5, 0, -5}, {5, 0, -5}, {-5, 0, 5}, 0);
+    addTriangle(s, {0, 2, 0}, {1, 2, 0}, {0, 2, 1}, 1);                       // area 0.5
+    addTriangle(s, {2, 1, 0}, {4, 1, 0}, {2, 3, 0}, 2);                       // area 2, facing +z
+    addTriangle(s, {-3, 1, 0}, {-3, 1, 1}, {-3, 3, 0.5f}, 3);                 // area 1, double-sided
+    addTriangle(s, {1, 0.5f, 1}, {1.3f, 0.7f, 1.1f}, {0.9f, 0.9f, 1.4f}, 1);  // small, tilted
     Camera camera;
     camera.position = glm::vec3(0, 2, 10);
     s.cameras.push_back(camera);

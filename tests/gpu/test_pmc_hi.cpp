@@ -14,6 +14,7 @@
 #include "gpu_test.h"
 #include "render/gpu_scene.h"
 #include "scene/scene.h"
+#include "scene_builder.h"
 
 namespace pmcr::test {
 namespace {
@@ -58,36 +59,17 @@ std::vector<uint32_t> allocateReference(const float* alpha, uint32_t m, uint32_t
     return counts;
 }
 
-gpu::Material material(const glm::vec3& emission, float roughness) {
-    gpu::Material m{};
-    m.baseColor = glm::vec3(0.5f);
-    m.baseColorTexture = -1;
-    m.emission = emission;
-    m.roughness = roughness;
-    m.ior = 1.5f;
-    return m;
-}
-
 // A glossy floor (Lambertian under a GGX coat) in z = 0 with the shading point at the origin,
 // and two lights facing down: a quad of two triangles and a single triangle.
 Scene twoLightScene() {
     Scene s;
     s.path = "pmc-hi-test.gltf";
-    s.materials = {material(glm::vec3(0.0f), 0.5f), material(glm::vec3(1.0f), 1.0f),
-                   material(glm::vec3(3.0f, 2.0f, 1.0f), 1.0f)};
-    auto add = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t m) {
-        const uint32_t base = uint32_t(s.vertices.size());
-        for (const glm::vec3& p : {a, b, c}) {
-            gpu::Vertex v{};
-            v.position = p;
-            s.vertices.push_back(v);
-        }
-        s.triangles.push_back({base, base + 1, base + 2, m});
-    };
-    add({-20, -20, 0}, {20, -20, 0}, {0, 20, 0}, 0);
-    add({-2, -0.5f, 2}, {-2, 0.5f, 2}, {-1, 0.5f, 2}, 1);
-    add({-2, -0.5f, 2}, {-1, 0.5f, 2}, {-1, -0.5f, 2}, 1);
-    add({0.8f, -0.3f, 1.5f}, {0.8f, 0.3f, 1.5f}, {1.4f, 0.0f, 1.5f}, 2);
+    s.materials = {testMaterial(glm::vec3(0.0f), false, 0.5f), testMaterial(glm::vec3(1.0f), false, 1.0f),
+                   testMaterial(glm::vec3(3.0f, 2.0f, 1.0f), false, 1.0f)};
+    addTriangle(s, {-20, -20, 0}, {20, -20, 0}, {0, 20, 0}, 0);
+    addTriangle(s, {-2, -0.5f, 2}, {-2, 0.5f, 2}, {-1, 0.5f, 2}, 1);
+    addTriangle(s, {-2, -0.5f, 2}, {-1, 0.5f, 2}, {-1, -0.5f, 2}, 1);
+    addTriangle(s, {0.8f, -0.3f, 1.5f}, {0.8f, 0.3f, 1.5f}, {1.4f, 0.0f, 1.5f}, 2);
     Camera camera;
     camera.position = glm::vec3(0, -5, 3);
     s.cameras.push_back(camera);

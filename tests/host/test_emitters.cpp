@@ -11,41 +11,23 @@
 
 #include "core/error.h"
 #include "scene/scene.h"
+#include "scene_builder.h"
 
 namespace pmcr {
 namespace {
 
-gpu::Material emissive(const glm::vec3& emission, bool doubleSided = false) {
-    gpu::Material m{};
-    m.baseColor = glm::vec3(0.5f);
-    m.baseColorTexture = -1;
-    m.emission = emission;
-    m.flags = doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
-    m.roughness = 1.0f;
-    m.ior = 1.5f;
-    return m;
-}
-
-void addTriangle(Scene& s, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2,
-                 uint32_t material) {
-    const uint32_t base = uint32_t(s.vertices.size());
-    for (const glm::vec3& p : {p0, p1, p2}) {
-        gpu::Vertex v{};
-        v.position = p;
-        s.vertices.push_back(v);
-    }
-    s.triangles.push_back({base, base + 1, base + 2, material});
-}
+using test::addTriangle;
+using test::testMaterial;
 
 // Right triangles in the z = 0 plane with legs `a` (area a^2 / 2), placed along x.
 Scene sceneWithEmitters(const std::vector<float>& legs, const std::vector<glm::vec3>& emission,
                         const std::vector<bool>& doubleSided) {
     Scene s;
     s.path = "emitters.gltf";
-    s.materials.push_back(emissive(glm::vec3(0.0f)));  // a non-emissive floor
+    s.materials.push_back(testMaterial(glm::vec3(0.0f)));  // a non-emissive floor
     addTriangle(s, {0, -1, 0}, {10, -1, 0}, {0, -1, 10}, 0);
     for (size_t i = 0; i < legs.size(); ++i) {
-        s.materials.push_back(emissive(emission[i], doubleSided[i]));
+        s.materials.push_back(testMaterial(emission[i], doubleSided[i]));
         const glm::vec3 o(float(i) * 3.0f, 0.0f, 0.0f);
         addTriangle(s, o, o + glm::vec3(legs[i], 0, 0), o + glm::vec3(0, legs[i], 0),
                     uint32_t(s.materials.size() - 1));

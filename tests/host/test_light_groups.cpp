@@ -7,32 +7,14 @@
 
 #include "scene/gltf_loader.h"
 #include "scene/scene.h"
+#include "scene_builder.h"
 #include "test_util.h"
 
 namespace pmcr {
 namespace {
 
-gpu::Material emissive(const glm::vec3& emission) {
-    gpu::Material m{};
-    m.baseColor = glm::vec3(0.5f);
-    m.baseColorTexture = -1;
-    m.emission = emission;
-    m.roughness = 1.0f;
-    m.ior = 1.5f;
-    return m;
-}
-
-// Triangles with their own (duplicated) vertices, as glTF meshes often have.
-void addTriangle(Scene& s, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2,
-                 uint32_t material) {
-    const uint32_t base = uint32_t(s.vertices.size());
-    for (const glm::vec3& p : {p0, p1, p2}) {
-        gpu::Vertex v{};
-        v.position = p;
-        s.vertices.push_back(v);
-    }
-    s.triangles.push_back({base, base + 1, base + 2, material});
-}
+using test::addTriangle;
+using test::testMaterial;
 
 // Checks the tables' invariants: every emitter in exactly one light, pmfs summing to 1 within
 // each light, the alias table reproducing them, and the per-triangle index agreeing.
@@ -66,7 +48,7 @@ void expectConsistent(const Scene& scene, const LightGroupTable& t) {
 TEST(LightGroups, TrianglesSharingAPositionFormOneLight) {
     Scene s;
     s.path = "groups.gltf";
-    s.materials = {emissive(glm::vec3(0.0f)), emissive(glm::vec3(1.0f)), emissive(glm::vec3(3.0f))};
+    s.materials = {testMaterial(glm::vec3(0.0f)), testMaterial(glm::vec3(1.0f)), testMaterial(glm::vec3(3.0f))};
     addTriangle(s, {-5, 0, -5}, {5, 0, -5}, {-5, 0, 5}, 0);  // floor, not a light
     // Light A: a quad of two triangles sharing an edge (by position only), plus a triangle
     // touching the quad at one corner.

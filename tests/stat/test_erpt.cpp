@@ -63,43 +63,24 @@ TEST_F(ErptTest, EqualDepositionConservesEnergyInExpectation) {
 }
 
 TEST_F(ErptTest, FurnaceGivesItsAnalyticValue) {
-    const Scene& scene = testScene("scenes/furnace.glb");
-    const int renders = 6;
     const int depth = 3;
-    double sum = 0.0, sumSq = 0.0;
-    for (int i = 0; i < renders; ++i) {
-        RenderSettings s = erptSettings(24, 2);
-        s.maxDepth = depth;
-        s.seed = 7 + uint32_t(i);
-        s.options["chain-length"] = "10";
-        const double m = imageMean(renderForTest(scene, s).output.image).y;
-        sum += m;
-        sumSq += m * m;
-    }
-    const double mean = sum / renders;
-    const double stderr = std::sqrt(std::max(0.0, sumSq / renders - mean * mean) / (renders - 1));
+    RenderSettings s = erptSettings(24, 2);
+    s.maxDepth = depth;
+    s.options["chain-length"] = "10";
+    const MeanEstimate e = meanOverRenders(testScene("scenes/furnace.glb"), s, 6, 7);
     const double expected = 1.0 - std::pow(0.5, depth + 1);
-    EXPECT_NEAR(mean, expected, 4.0 * stderr + 2e-3) << "standard error " << stderr;
+    EXPECT_NEAR(e.mean, expected, 4.0 * e.standardError + 2e-3) << "standard error " << e.standardError;
 }
 
 // The mean of independent ERPT renders against independent path-traced renders, per pixel
 // (Mitsuba-style: Sidak-corrected z-test, at least 99.75% of pixels pass).
-void expectUnbiased(RenderSettings erpt, int erptRenders, int ptRenders) {
+void expectUnbiased(const RenderSettings& erpt, int erptRenders, int ptRenders) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
-    ImageMoments e, p;
-    for (int i = 0; i < erptRenders; ++i) {
-        erpt.seed = 1000 + uint32_t(i);
-        e.add(renderForTest(scene, erpt).output.image.rgb);
-    }
     RenderSettings pt = erpt;
     pt.method = "pt";
     pt.options.clear();
     pt.spp = 64;
-    for (int i = 0; i < ptRenders; ++i) {
-        pt.seed = 5000 + uint32_t(i);
-        p.add(renderForTest(scene, pt).output.image.rgb);
-    }
-    auto result = pixelZTest(e.mean(), e.variance(), erptRenders, p.mean(), p.variance(), ptRenders);
+    const auto result = zTestRenders(scene, erpt, erptRenders, 1000, renderMoments(scene, pt, ptRenders, 5000));
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 

@@ -59,19 +59,9 @@ TEST_F(PmcHiTest, SameSeedSameImageBitForBit) {
 }
 
 TEST_F(PmcHiTest, FurnaceGivesItsAnalyticValue) {
-    double sum = 0.0, sumSq = 0.0;
-    const int renders = 4;
-    for (int i = 0; i < renders; ++i) {
-        RenderSettings s = pmcHiSettings(16, 4);
-        s.seed = 11 + uint32_t(i);
-        const double m = imageMean(renderForTest(testScene("scenes/furnace.glb"), s).output.image).y;
-        sum += m;
-        sumSq += m * m;
-    }
-    const double mean = sum / renders;
-    const double stderr = std::sqrt(std::max(0.0, sumSq / renders - mean * mean) / (renders - 1));
+    const MeanEstimate e = meanOverRenders(testScene("scenes/furnace.glb"), pmcHiSettings(16, 4), 4, 11);
     // Emission seen directly plus one bounce of a Kd 0.5 surface: 1 - 0.5^2.
-    EXPECT_NEAR(mean, 0.75, 5.0 * stderr + 2e-3) << "standard error " << stderr;
+    EXPECT_NEAR(e.mean, 0.75, 5.0 * e.standardError + 2e-3) << "standard error " << e.standardError;
 }
 
 // Independent MIS direct-lighting renders of a scene at a size, rendered once per test binary.
@@ -84,25 +74,13 @@ const ImageMoments& baseline(const std::string& scenePath, const RenderSettings&
     base.method = "direct";
     base.options = {{"light-samples", "4"}};
     base.spp = 32;
-    ImageMoments b;
-    for (int i = 0; i < 8; ++i) {
-        base.seed = 8000 + uint32_t(i);
-        b.add(renderForTest(testScene(scenePath), base).output.image.rgb);
-    }
-    return cache.emplace(key, b).first->second;
+    return cache.emplace(key, renderMoments(testScene(scenePath), base, 8, 8000)).first->second;
 }
 
 // The mean of independent PMC-HI renders against independent MIS direct-lighting renders, per
 // pixel (Sidak-corrected z-test, at least 99.75% of pixels pass).
-PixelTestResult zTest(const std::string& scenePath, RenderSettings method, int renders) {
-    const Scene& scene = testScene(scenePath);
-    ImageMoments m;
-    for (int i = 0; i < renders; ++i) {
-        method.seed = 3000 + uint32_t(i);
-        m.add(renderForTest(scene, method).output.image.rgb);
-    }
-    const ImageMoments& b = baseline(scenePath, method);
-    return pixelZTest(m.mean(), m.variance(), renders, b.mean(), b.variance(), b.count());
+PixelTestResult zTest(const std::string& scenePath, const RenderSettings& method, int renders) {
+    return zTestRenders(testScene(scenePath), method, renders, 3000, baseline(scenePath, method));
 }
 
 void expectUnbiased(const std::string& scenePath, const RenderSettings& method, int renders) {

@@ -46,20 +46,12 @@ TEST_F(PmcIpTest, SameSeedSameImageBitForBit) {
 TEST_F(PmcIpTest, FurnaceGivesItsAnalyticValue) {
     for (const char* method : {"pmc-ip", "pmc-ip-direct"}) {
         const int depth = 3;
-        double sum = 0.0, sumSq = 0.0;
-        const int renders = 4;
-        for (int i = 0; i < renders; ++i) {
-            RenderSettings s = pmcIpSettings(method, 24, 12);
-            s.maxDepth = depth;
-            s.seed = 11 + uint32_t(i);
-            const double m = imageMean(renderForTest(testScene("scenes/furnace.glb"), s).output.image).y;
-            sum += m;
-            sumSq += m * m;
-        }
-        const double mean = sum / renders;
-        const double stderr = std::sqrt(std::max(0.0, sumSq / renders - mean * mean) / (renders - 1));
+        RenderSettings s = pmcIpSettings(method, 24, 12);
+        s.maxDepth = depth;
+        const MeanEstimate e = meanOverRenders(testScene("scenes/furnace.glb"), s, 4, 11);
         const double expected = 1.0 - std::pow(0.5, std::string(method) == "pmc-ip" ? depth + 1 : 2);
-        EXPECT_NEAR(mean, expected, 5.0 * stderr + 2e-3) << method << ", standard error " << stderr;
+        EXPECT_NEAR(e.mean, expected, 5.0 * e.standardError + 2e-3)
+            << method << ", standard error " << e.standardError;
     }
 }
 
@@ -67,21 +59,12 @@ TEST_F(PmcIpTest, FurnaceGivesItsAnalyticValue) {
 // pixel (Sidak-corrected z-test, at least 99.75% of pixels pass, as Mitsuba's render tests).
 void expectUnbiased(RenderSettings method, const std::string& baseline, int renders, int baselineRenders) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
-    ImageMoments m, b;
-    for (int i = 0; i < renders; ++i) {
-        method.seed = 2000 + uint32_t(i);
-        m.add(renderForTest(scene, method).output.image.rgb);
-    }
     RenderSettings base = method;
     base.method = baseline;
     base.options.clear();
     if (method.options.count("light-samples")) base.options["light-samples"] = method.options["light-samples"];
     base.spp = 64;
-    for (int i = 0; i < baselineRenders; ++i) {
-        base.seed = 7000 + uint32_t(i);
-        b.add(renderForTest(scene, base).output.image.rgb);
-    }
-    auto result = pixelZTest(m.mean(), m.variance(), renders, b.mean(), b.variance(), baselineRenders);
+    const auto result = zTestRenders(scene, method, renders, 2000, renderMoments(scene, base, baselineRenders, 7000));
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 

@@ -74,41 +74,29 @@ TEST_F(PmcPtTest, FurnaceGivesItsAnalyticValue) {
     const Scene& scene = testScene("scenes/furnace.glb");
     const int renders = 6, depth = 3;
     for (const char* estimator : {"weighted", "average"}) {
-        double sum = 0.0, sumSq = 0.0;
-        for (int i = 0; i < renders; ++i) {
-            RenderSettings s = pmcPtSettings(24, 8);
-            s.maxDepth = depth;
-            s.seed = 7 + uint32_t(i);
-            s.options["estimator"] = estimator;
-            const double m = imageMean(renderForTest(scene, s).output.image).y;
-            sum += m;
-            sumSq += m * m;
-        }
-        const double mean = sum / renders;
-        const double stderr = std::sqrt(std::max(0.0, sumSq / renders - mean * mean) / (renders - 1));
-        EXPECT_NEAR(mean, 1.0 - std::pow(0.5, depth + 1), 4.0 * stderr + 2e-3)
-            << estimator << ": standard error " << stderr;
+        RenderSettings s = pmcPtSettings(24, 8);
+        s.maxDepth = depth;
+        s.options["estimator"] = estimator;
+        const MeanEstimate e = meanOverRenders(scene, s, renders, 7);
+        EXPECT_NEAR(e.mean, 1.0 - std::pow(0.5, depth + 1), 4.0 * e.standardError + 2e-3)
+            << estimator << ": standard error " << e.standardError;
     }
+}
+
+// Independent path-traced renders of cornell-glass at the size of `like`.
+ImageMoments pathTracedMoments(const RenderSettings& like, int renders, uint32_t spp) {
+    RenderSettings pt = like;
+    pt.method = "pt";
+    pt.options.clear();
+    pt.spp = spp;
+    return renderMoments(testScene("scenes/cornell-glass.glb"), pt, renders, 5000);
 }
 
 // The mean of independent PMC-PT renders against independent path-traced renders, per pixel
 // (Sidak-corrected z-test, at least 99.75% of pixels pass), on a small cornell-glass.
-PixelTestResult zTestAgainstPathTracing(RenderSettings pmc, int pmcRenders, int ptRenders) {
-    const Scene& scene = testScene("scenes/cornell-glass.glb");
-    ImageMoments e, p;
-    for (int i = 0; i < pmcRenders; ++i) {
-        pmc.seed = 1000 + uint32_t(i);
-        e.add(renderForTest(scene, pmc).output.image.rgb);
-    }
-    RenderSettings pt = pmc;
-    pt.method = "pt";
-    pt.options.clear();
-    pt.spp = 64;
-    for (int i = 0; i < ptRenders; ++i) {
-        pt.seed = 5000 + uint32_t(i);
-        p.add(renderForTest(scene, pt).output.image.rgb);
-    }
-    return pixelZTest(e.mean(), e.variance(), pmcRenders, p.mean(), p.variance(), ptRenders);
+PixelTestResult zTestAgainstPathTracing(const RenderSettings& pmc, int pmcRenders, int ptRenders) {
+    return zTestRenders(testScene("scenes/cornell-glass.glb"), pmc, pmcRenders, 1000,
+                        pathTracedMoments(pmc, ptRenders, 64));
 }
 
 // Aggregate evidence of bias over all pixels (green channel): the sum of z^2 is chi-square with
@@ -128,13 +116,7 @@ struct BiasEvidence {
 };
 
 BiasEvidence measureBias(const RenderSettings& pmc, int pmcRenders, const ImageMoments& pt) {
-    const Scene& scene = testScene("scenes/cornell-glass.glb");
-    ImageMoments e;
-    RenderSettings s = pmc;
-    for (int i = 0; i < pmcRenders; ++i) {
-        s.seed = 1000 + uint32_t(i);
-        e.add(renderForTest(scene, s).output.image.rgb);
-    }
+    const ImageMoments e = renderMoments(testScene("scenes/cornell-glass.glb"), pmc, pmcRenders, 1000);
     BiasEvidence b;
     const auto m = e.mean(), v = e.variance(), r = pt.mean(), rv = pt.variance();
     b.perPixel = pixelZTest(m, v, pmcRenders, r, rv, pt.count());
@@ -150,19 +132,6 @@ BiasEvidence measureBias(const RenderSettings& pmc, int pmcRenders, const ImageM
     b.meanZ = b.dof > 0 ? sumZ / b.dof : 0.0;
     b.pValue = chi2Survival(b.chi2, b.dof);
     return b;
-}
-
-ImageMoments pathTracedMoments(const RenderSettings& like, int renders, uint32_t spp) {
-    RenderSettings pt = like;
-    pt.method = "pt";
-    pt.options.clear();
-    pt.spp = spp;
-    ImageMoments p;
-    for (int i = 0; i < renders; ++i) {
-        pt.seed = 5000 + uint32_t(i);
-        p.add(renderForTest(testScene("scenes/cornell-glass.glb"), pt).output.image.rgb);
-    }
-    return p;
 }
 
 // Measures the bias of the paper's plain average next to the weighted estimator (run with

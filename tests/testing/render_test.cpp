@@ -1,5 +1,6 @@
 #include "render_test.h"
 
+#include <cmath>
 #include <map>
 #include <memory>
 
@@ -27,6 +28,35 @@ glm::dvec3 imageMean(const Image& image) {
     for (size_t i = 0; i < image.pixelCount(); ++i)
         sum += glm::dvec3(image.rgb[3 * i], image.rgb[3 * i + 1], image.rgb[3 * i + 2]);
     return sum / double(image.pixelCount());
+}
+
+ImageMoments renderMoments(const Scene& scene, RenderSettings settings, int renders, uint32_t firstSeed) {
+    ImageMoments moments;
+    for (int i = 0; i < renders; ++i) {
+        settings.seed = firstSeed + uint32_t(i);
+        moments.add(renderForTest(scene, settings).output.image.rgb);
+    }
+    return moments;
+}
+
+MeanEstimate meanOverRenders(const Scene& scene, RenderSettings settings, int renders, uint32_t firstSeed) {
+    double sum = 0.0, sumSq = 0.0;
+    for (int i = 0; i < renders; ++i) {
+        settings.seed = firstSeed + uint32_t(i);
+        const double m = imageMean(renderForTest(scene, settings).output.image).y;
+        sum += m;
+        sumSq += m * m;
+    }
+    MeanEstimate e;
+    e.mean = sum / renders;
+    e.standardError = std::sqrt(std::max(0.0, sumSq / renders - e.mean * e.mean) / (renders - 1));
+    return e;
+}
+
+PixelTestResult zTestRenders(const Scene& scene, const RenderSettings& method, int renders,
+                             uint32_t firstSeed, const ImageMoments& baseline) {
+    const ImageMoments m = renderMoments(scene, method, renders, firstSeed);
+    return pixelZTest(m.mean(), m.variance(), renders, baseline.mean(), baseline.variance(), baseline.count());
 }
 
 }  // namespace pmcr::test

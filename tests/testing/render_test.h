@@ -7,6 +7,7 @@
 #include "render/renderer.h"
 #include "render/settings.h"
 #include "scene/scene.h"
+#include "statistics.h"
 
 namespace pmcr::test {
 
@@ -18,5 +19,22 @@ RenderResult renderForTest(const Scene& scene, RenderSettings settings);
 
 // Mean of all pixels' luminance... and of each channel.
 glm::dvec3 imageMean(const Image& image);
+
+// Per-pixel moments of `renders` independent renders, seeds firstSeed, firstSeed + 1, ...
+ImageMoments renderMoments(const Scene& scene, RenderSettings settings, int renders, uint32_t firstSeed);
+
+// A figure's mean over independent renders and the standard error of that mean.
+struct MeanEstimate {
+    double mean = 0.0;
+    double standardError = 0.0;
+};
+// The image mean's green channel (a grey furnace's answer) over `renders` independent renders,
+// seeds firstSeed, firstSeed + 1, ...
+MeanEstimate meanOverRenders(const Scene& scene, RenderSettings settings, int renders, uint32_t firstSeed);
+
+// The Mitsuba-style per-pixel z-test (pixelZTest) of the mean of independent renders of
+// `method` against independent renders of `baseline`.
+PixelTestResult zTestRenders(const Scene& scene, const RenderSettings& method, int renders,
+                             uint32_t firstSeed, const ImageMoments& baseline);
 
 }  // namespace pmcr::test
