@@ -82,6 +82,12 @@ public:
     const std::vector<gpu::IsectTriangle>& triangles() const { return m_triangles; }
     uint32_t depth() const { return m_depth; }  // deepest leaf; the root has depth 0
 
+    // The same nodes and triangles as the kernels read them: one array of 16-byte texels,
+    // node i at texels 2i and 2i + 1 with leftOrFirst replaced by a texel address, then the
+    // triangles, three texels each (layout in shared/scene_types.h). Throws pmcr::Error when
+    // the addresses do not fit (BVH_MAX_TEXELS).
+    std::vector<glm::uvec4> deviceTexels() const;
+
     // Closest hit with 0 < t < tMax. On a miss returns false and sets hit to
     // {tMax, BVH_NO_HIT, 0, 0}. Mirrors traceClosest() in shaders/common/bvh.glsl.
     bool traceClosest(const glm::vec3& origin, const glm::vec3& dir, float tMax,
