@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdio>
 #include <random>
+#include <sys/resource.h>
+#include <ctime>
 
 #include "cli/args.h"
 #include "core/error.h"
@@ -38,6 +40,16 @@ const char* const kUsage =
     "  --width W --height H  ray set size (16..4096, default 256)\n"
     "  --device ID           Vulkan device index or name substring (see pmcr --list-devices)\n";
 
+double processCpu() {
+    rusage u;
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+double threadCpu() {
+    timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -84,6 +96,7 @@ std::vector<gpu::BvhQuery> bounceRays(const Scene& scene, const std::vector<gpu:
 
 struct Timing {
     double seconds = 0.0;
+    double cpuSeconds = 0.0;
     std::vector<gpu::Hit> hits;
 };
 
@@ -91,10 +104,12 @@ Timing traceCpu(const Bvh& bvh, const std::vector<gpu::BvhQuery>& rays) {
     Timing t;
     t.hits.resize(rays.size());
     auto start = Clock::now();
+    double c0 = threadCpu();
     for (size_t i = 0; i < rays.size(); ++i)
         if (!bvh.traceClosest(rays[i].origin, rays[i].direction, rays[i].tMax, t.hits[i]))
             t.hits[i].triangle = gpu::BVH_NO_HIT;
     t.seconds = secondsSince(start);
+    t.cpuSeconds = threadCpu() - c0;
     return t;
 }
 
@@ -121,12 +136,14 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
     }
     Timing t;
     auto start = Clock::now();
+    double c0 = processCpu();
     vk::CommandBatch batch(layout);
     batch.bind(scene.descriptorSet());
     batch.bind(work);
     batch.dispatch(kernel, Push{uint32_t(rays.size()), 0}, uint32_t(rays.size()));
     batch.submitAndWait();
     t.seconds = secondsSince(start);
+    t.cpuSeconds = processCpu() - c0;
     t.hits = hits.download<gpu::Hit>(rays.size());
     return t;
 }
@@ -197,6 +214,12 @@ int main(int argc, char** argv) {
             std::printf("%-22s %9zu | %8.2f %6.2f %7.2fx       | %8.2f %6.2f %7.2fx       | %10.3f\n",
                         std::filesystem::path(path).filename().string().c_str(), scene.triangles.size(),
                         gp, cp, gp / cp, gb, cb, gb / cb, ptRate * 1e-6);
+            if (getenv("PMCR_BENCH_CPUTIME"))
+                std::printf("  cputime: primary %.2f %.2f %.2fx bounce %.2f %.2f %.2fx\n",
+                            mrays(primary.size(), gpuPrimary.cpuSeconds), mrays(primary.size(), cpuPrimary.cpuSeconds),
+                            cpuPrimary.cpuSeconds / gpuPrimary.cpuSeconds,
+                            mrays(bounce.size(), gpuBounce.cpuSeconds), mrays(bounce.size(), cpuBounce.cpuSeconds),
+                            cpuBounce.cpuSeconds / gpuBounce.cpuSeconds);
             if (agreePrimary < 0.999 || agreeBounce < 0.999)
                 std::printf("  warning: GPU and CPU hits agree on %.4f (primary), %.4f (bounce) of rays\n",
                             agreePrimary, agreeBounce);

@@ -85,9 +85,8 @@ bool bvhIntersectTriangle(vec4 v0, vec3 e1, vec3 e2, vec3 origin, vec3 dir, inou
 uint bvhNodeRef(uvec4 lo, uvec4 hi) { return (lo.w << 3) | hi.w; }
 
 // Near-child-first traversal; with anyHit it returns at the first hit. An interior step tests
-// both child boxes, descends into the nearer and pushes the farther with its entry distance,
-// which is re-checked against the closest hit when popped (as Bvh::traverse does); a leaf step
-// tests one triangle.
+// both child boxes, descends into the nearer and pushes the farther; a leaf step tests one
+// triangle.
 bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
     vec3 invDir = bvhSafeInverse(dir);
     uvec4 rootLo = bvhTexel(0u);
@@ -98,7 +97,6 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
         return false;
     }
     uint stackRef[BVH_MAX_DEPTH];
-    float stackEntry[BVH_MAX_DEPTH];
     uint stackSize = 0u;
     uint ref = bvhNodeRef(rootLo, rootHi);
     bool found = false;
@@ -137,7 +135,6 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
                 bool leftFirst = tLeft <= tRight;
                 if (stackSize < BVH_MAX_DEPTH) {
                     stackRef[stackSize] = leftFirst ? rightRef : leftRef;
-                    stackEntry[stackSize] = leftFirst ? tRight : tLeft;
                     ++stackSize;
                 }
                 ref = leftFirst ? leftRef : rightRef;
@@ -148,10 +145,10 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
                 continue;
             }
         }
-        // Pop the next subtree that can still hold a closer hit.
-        while (stackSize > 0u && stackEntry[stackSize - 1u] > hit.t) {
-            --stackSize;
-        }
+        // Pop the next subtree. Unlike Bvh::traverse, no entry distance is kept to skip
+        // subtrees beyond the closest hit when popped: the popped node's children are culled
+        // by their boxes in the next step anyway, and on lavapipe the second stack array and
+        // the skipping loop cost more than that step (measured: 30-45% more rays/s without).
         if (stackSize == 0u) {
             break;
         }
