@@ -96,7 +96,13 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
                          invDir, hit.t, tEntry)) {
         return false;
     }
-    uint stackRef[BVH_MAX_DEPTH];
+    // The stack's top entries live in registers, the rest in a local array (on lavapipe a
+    // local array indexed per lane is a scatter or gather on every access).
+    uint top0 = 0u;
+    uint top1 = 0u;
+    uint top2 = 0u;
+    uint top3 = 0u;
+    uint stackSpill[BVH_MAX_DEPTH];
     uint stackSize = 0u;
     uint ref = bvhNodeRef(rootLo, rootHi);
     bool found = false;
@@ -134,7 +140,13 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
             if (hitLeft && hitRight) {
                 bool leftFirst = tLeft <= tRight;
                 if (stackSize < BVH_MAX_DEPTH) {
-                    stackRef[stackSize] = leftFirst ? rightRef : leftRef;
+                    if (stackSize >= 4u) {
+                        stackSpill[stackSize - 4u] = top3;
+                    }
+                    top3 = top2;
+                    top2 = top1;
+                    top1 = top0;
+                    top0 = leftFirst ? rightRef : leftRef;
                     ++stackSize;
                 }
                 ref = leftFirst ? leftRef : rightRef;
@@ -152,7 +164,14 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
         if (stackSize == 0u) {
             break;
         }
-        ref = stackRef[--stackSize];
+        ref = top0;
+        top0 = top1;
+        top1 = top2;
+        top2 = top3;
+        --stackSize;
+        if (stackSize >= 4u) {
+            top3 = stackSpill[stackSize - 4u];
+        }
     }
     return found;
 }
