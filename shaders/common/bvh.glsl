@@ -96,12 +96,16 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
                          invDir, hit.t, tEntry)) {
         return false;
     }
-    // The stack's top entries live in registers, the rest in a local array (on lavapipe a
+    // The stack's top eight entries live in registers, the rest in a local array (on lavapipe a
     // local array indexed per lane is a scatter or gather on every access).
     uint top0 = 0u;
     uint top1 = 0u;
     uint top2 = 0u;
     uint top3 = 0u;
+    uint top4 = 0u;
+    uint top5 = 0u;
+    uint top6 = 0u;
+    uint top7 = 0u;
     uint stackSpill[BVH_MAX_DEPTH];
     uint stackSize = 0u;
     uint ref = bvhNodeRef(rootLo, rootHi);
@@ -140,9 +144,13 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
             if (hitLeft && hitRight) {
                 bool leftFirst = tLeft <= tRight;
                 if (stackSize < BVH_MAX_DEPTH) {
-                    if (stackSize >= 4u) {
-                        stackSpill[stackSize - 4u] = top3;
+                    if (stackSize >= 8u) {
+                        stackSpill[stackSize - 8u] = top7;
                     }
+                    top7 = top6;
+                    top6 = top5;
+                    top5 = top4;
+                    top4 = top3;
                     top3 = top2;
                     top2 = top1;
                     top1 = top0;
@@ -168,9 +176,13 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
         top0 = top1;
         top1 = top2;
         top2 = top3;
+        top3 = top4;
+        top4 = top5;
+        top5 = top6;
+        top6 = top7;
         --stackSize;
-        if (stackSize >= 4u) {
-            top3 = stackSpill[stackSize - 4u];
+        if (stackSize >= 8u) {
+            top7 = stackSpill[stackSize - 8u];
         }
     }
     return found;
