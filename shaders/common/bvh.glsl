@@ -62,17 +62,13 @@ bool bvhIntersectTriangle(vec4 v0, vec3 e1, vec3 e2, vec3 origin, vec3 dir, inou
     float absDet = det * sgn;
     vec3 s = origin - v0.xyz;
     float u = dot(s, p) * sgn;
-    if (!(absDet > 0.0) || u < 0.0 || u > absDet) {
-        return false;
-    }
     vec3 q = cross(s, e1);
     float v = dot(dir, q) * sgn;
-    if (v < 0.0 || u + v > absDet) {
-        return false;
-    }
     float invDet = 1.0 / absDet;
     float t = dot(e2, q) * sgn * invDet;
-    if (!(t > 0.0) || !(t < hit.t)) {
+    // One test of everything (no early outs: on SIMD lanes every branch costs mask work).
+    bool inside = absDet > 0.0 && u >= 0.0 && u <= absDet && v >= 0.0 && u + v <= absDet;
+    if (!(inside && t > 0.0 && t < hit.t)) {
         return false;
     }
     hit = Hit(t, floatBitsToUint(v0.w), u * invDet, v * invDet);
