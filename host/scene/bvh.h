@@ -1,7 +1,8 @@
 // Bounding volume hierarchy over the scene's world-space triangles: a binned SAH build
 // (Wald 2007, "On fast Construction of SAH-based Bounding Volume Hierarchies"), flattened into
-// the layout the kernels traverse (gpu::BvhNode, gpu::IsectTriangle in shared/scene_types.h),
-// and the scalar CPU traversal that is the reference for shaders/common/bvh.glsl.
+// nodes and triangles (gpu::BvhNode, gpu::IsectTriangle in shared/scene_types.h) that the
+// kernels read, serialized, from one texel buffer (deviceTexels), and the scalar CPU traversal
+// of the same nodes and triangles that is the reference for shaders/common/bvh.glsl.
 //
 // Intersection policy (identical in C++ and GLSL):
 //  - Moller-Trumbore (1997) with a division-free inside test: the barycentric numerators are
