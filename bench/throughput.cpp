@@ -3,11 +3,14 @@
 // rays, plus path-tracing samples per second. Prints one table; ratios are measured in the same
 // run on the same machine.
 //
-//   pmcr-bench-throughput [--width W] [--height H] [--device ID] [SCENE...]
+//   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--cpu-time] [SCENE...]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <random>
+
+#include <sys/resource.h>
 
 #include "cli/args.h"
 #include "core/error.h"
@@ -26,7 +29,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 const char* const kUsage =
-    "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] SCENE...\n"
+    "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--cpu-time] SCENE...\n"
     "       (bench/throughput runs it on the default scene and the dragon)\n"
     "\n"
     "Traces one set of primary rays (one per pixel of a W x H image, default 256 x 256, through\n"
@@ -36,8 +39,24 @@ const char* const kUsage =
     "ratio, and path-tracing samples/s (pt, 4 spp at W x H). Warns if GPU and CPU hits differ.\n"
     "Ratios are measured in one run on one machine; compare ratios, not absolute rates.\n"
     "  --width W --height H  ray set size (16..4096, default 256)\n"
-    "  --device ID           Vulkan device index or name substring (see pmcr --list-devices)\n";
+    "  --device ID           Vulkan device index or name substring (see pmcr --list-devices)\n"
+    "  --cpu-time            also print Mrays/s per CPU second: the process's CPU time during\n"
+    "                        the dispatch (on lavapipe, its worker threads) and the tracing\n"
+    "                        thread's CPU time; steadier than wall time on a loaded machine\n";
 
+// CPU seconds used so far by the whole process (every thread, lavapipe's workers included).
+double processCpu() {
+    rusage u;
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+// CPU seconds used so far by the calling thread.
+double threadCpu() {
+    timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -84,6 +103,7 @@ std::vector<gpu::BvhQuery> bounceRays(const Scene& scene, const std::vector<gpu:
 
 struct Timing {
     double seconds = 0.0;
+    double cpuSeconds = 0.0;  // threadCpu (host traversal) or processCpu (GPU dispatch)
     std::vector<gpu::Hit> hits;
 };
 
@@ -91,10 +111,12 @@ Timing traceCpu(const Bvh& bvh, const std::vector<gpu::BvhQuery>& rays) {
     Timing t;
     t.hits.resize(rays.size());
     auto start = Clock::now();
+    const double cpuStart = threadCpu();
     for (size_t i = 0; i < rays.size(); ++i)
         if (!bvh.traceClosest(rays[i].origin, rays[i].direction, rays[i].tMax, t.hits[i]))
             t.hits[i].triangle = gpu::BVH_NO_HIT;
     t.seconds = secondsSince(start);
+    t.cpuSeconds = threadCpu() - cpuStart;
     return t;
 }
 
@@ -121,12 +143,14 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
     }
     Timing t;
     auto start = Clock::now();
+    const double cpuStart = processCpu();
     vk::CommandBatch batch(layout);
     batch.bind(scene.descriptorSet());
     batch.bind(work);
     batch.dispatch(kernel, Push{uint32_t(rays.size()), 0}, uint32_t(rays.size()));
     batch.submitAndWait();
     t.seconds = secondsSince(start);
+    t.cpuSeconds = processCpu() - cpuStart;
     t.hits = hits.download<gpu::Hit>(rays.size());
     return t;
 }
@@ -146,6 +170,7 @@ int main(int argc, char** argv) {
     try {
         cli::Args args(argc, argv, 1);
         int width = 256, height = 256;
+        bool cpuTime = false;
         std::string device;
         std::vector<std::string> scenes;
         while (!args.done()) {
@@ -153,6 +178,7 @@ int main(int argc, char** argv) {
             if (a == "--width") width = cli::parseInt(a, args.value(a), 16, 4096);
             else if (a == "--height") height = cli::parseInt(a, args.value(a), 16, 4096);
             else if (a == "--device") device = args.value(a);
+            else if (a == "--cpu-time") cpuTime = true;
             else if (a == "--help" || a == "-h") {
                 std::printf("%s", kUsage);
                 return 0;
@@ -197,6 +223,14 @@ int main(int argc, char** argv) {
             std::printf("%-22s %9zu | %8.2f %6.2f %7.2fx       | %8.2f %6.2f %7.2fx       | %10.3f\n",
                         std::filesystem::path(path).filename().string().c_str(), scene.triangles.size(),
                         gp, cp, gp / cp, gb, cb, gb / cb, ptRate * 1e-6);
+            if (cpuTime) {
+                const double gpc = mrays(primary.size(), gpuPrimary.cpuSeconds);
+                const double cpc = mrays(primary.size(), cpuPrimary.cpuSeconds);
+                const double gbc = mrays(bounce.size(), gpuBounce.cpuSeconds);
+                const double cbc = mrays(bounce.size(), cpuBounce.cpuSeconds);
+                std::printf("%-22s %9s | %8.2f %6.2f %7.2fx       | %8.2f %6.2f %7.2fx       |\n",
+                            "  per CPU second", "", gpc, cpc, gpc / cpc, gbc, cbc, gbc / cbc);
+            }
             if (agreePrimary < 0.999 || agreeBounce < 0.999)
                 std::printf("  warning: GPU and CPU hits agree on %.4f (primary), %.4f (bounce) of rays\n",
                             agreePrimary, agreeBounce);

@@ -52,8 +52,8 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         m_infoBuffer.upload(&m_info, sizeof(m_info));
         m_vertices = vk::Buffer::storage(context, scene.vertices, "vertex buffer");
         m_triangles = vk::Buffer::storage(context, scene.triangles, "triangle buffer");
-        m_isectTriangles = vk::Buffer::storage(context, m_bvh.triangles(), "BVH triangle buffer");
-        m_nodes = vk::Buffer::storage(context, m_bvh.nodes(), "BVH node buffer");
+        m_bvhTexels = vk::Buffer::texels(context, m_bvh.deviceTexels(),
+                                         VK_FORMAT_R32G32B32A32_UINT, "BVH texel buffer");
         m_materials = vk::Buffer::storage(context, scene.materials, "material buffer");
         m_emitterBuffer = vk::Buffer::storage(context, m_emitters.emitters, "emitter buffer");
         m_lightGroupBuffer = vk::Buffer::storage(context, m_lightGroups.lights, "light group buffer");
@@ -71,8 +71,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_set->bind(gpu::BINDING_SCENE_INFO, m_infoBuffer);
     m_set->bind(gpu::BINDING_VERTICES, m_vertices);
     m_set->bind(gpu::BINDING_TRIANGLES, m_triangles);
-    m_set->bind(gpu::BINDING_ISECT_TRIANGLES, m_isectTriangles);
-    m_set->bind(gpu::BINDING_BVH_NODES, m_nodes);
+    m_set->bind(gpu::BINDING_BVH, m_bvhTexels);
     m_set->bind(gpu::BINDING_MATERIALS, m_materials);
     m_set->bind(gpu::BINDING_EMITTERS, m_emitterBuffer);
     m_set->bind(gpu::BINDING_LIGHT_GROUPS, m_lightGroupBuffer);

@@ -37,8 +37,7 @@ private:
     vk::Buffer m_infoBuffer;
     vk::Buffer m_vertices;
     vk::Buffer m_triangles;
-    vk::Buffer m_isectTriangles;
-    vk::Buffer m_nodes;
+    vk::Buffer m_bvhTexels;
     vk::Buffer m_materials;
     vk::Buffer m_emitterBuffer;
     vk::Buffer m_lightGroupBuffer;

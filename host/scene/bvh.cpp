@@ -349,6 +349,31 @@ Bvh Bvh::build(std::span<const gpu::Vertex> vertices, std::span<const gpu::Trian
     return bvh;
 }
 
+std::vector<glm::uvec4> Bvh::deviceTexels() const {
+    const size_t triangleBase = 2 * m_nodes.size();
+    const size_t texelCount = triangleBase + 3 * m_triangles.size();
+    if (texelCount > gpu::BVH_MAX_TEXELS) {
+        throw Error("BVH of " + std::to_string(m_triangles.size()) + " triangles needs " +
+                    std::to_string(texelCount) + " texels, more than the kernels address (" +
+                    std::to_string(gpu::BVH_MAX_TEXELS) + ")");
+    }
+    std::vector<glm::uvec4> texels(texelCount);
+    for (size_t i = 0; i < m_nodes.size(); ++i) {
+        const gpu::BvhNode& n = m_nodes[i];
+        const size_t ref =
+            n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst} : 2 * size_t{n.leftOrFirst};
+        texels[2 * i] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMin), uint32_t(ref));
+        texels[2 * i + 1] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMax), n.count);
+    }
+    for (size_t i = 0; i < m_triangles.size(); ++i) {
+        const gpu::IsectTriangle& t = m_triangles[i];
+        texels[triangleBase + 3 * i] = std::bit_cast<glm::uvec4>(t.v0);
+        texels[triangleBase + 3 * i + 1] = std::bit_cast<glm::uvec4>(t.e1);
+        texels[triangleBase + 3 * i + 2] = std::bit_cast<glm::uvec4>(t.e2);
+    }
+    return texels;
+}
+
 Bvh Bvh::build(const Scene& scene) {
     return build(scene.vertices, scene.triangles, scene.path.string());
 }

@@ -26,6 +26,11 @@ Buffer::Buffer(Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
     if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && size > limits.maxStorageBufferRange)
         throw Error(name + " needs " + mib(size) + ", more than the device's storage buffer limit of " +
                     mib(limits.maxStorageBufferRange) + " (maxStorageBufferRange)");
+    if ((usage & VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT) &&
+        size / 16 > limits.maxTexelBufferElements)
+        throw Error(name + " needs " + std::to_string(size / 16) +
+                    " texels, more than the device's limit of " +
+                    std::to_string(limits.maxTexelBufferElements) + " (maxTexelBufferElements)");
     if ((usage & VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT) && size > limits.maxUniformBufferRange)
         throw Error(name + " needs " + mib(size) + ", more than the device's uniform buffer limit");
 
@@ -85,6 +90,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
         m_memory = std::exchange(other.m_memory, VK_NULL_HANDLE);
         m_size = std::exchange(other.m_size, 0);
         m_mapped = std::exchange(other.m_mapped, nullptr);
+        m_view = std::exchange(other.m_view, VK_NULL_HANDLE);
         m_name = std::move(other.m_name);
     }
     return *this;
@@ -93,13 +99,25 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 void Buffer::release() {
     if (!m_context) return;
     VkDevice device = m_context->device();
+    if (m_view) vkDestroyBufferView(device, m_view, nullptr);
     if (m_mapped) vkUnmapMemory(device, m_memory);
     if (m_buffer) vkDestroyBuffer(device, m_buffer, nullptr);
     if (m_memory) vkFreeMemory(device, m_memory, nullptr);
     m_buffer = VK_NULL_HANDLE;
     m_memory = VK_NULL_HANDLE;
     m_mapped = nullptr;
+    m_view = VK_NULL_HANDLE;
     m_context = nullptr;
+}
+
+void Buffer::createView(VkFormat format) {
+    VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    info.buffer = m_buffer;
+    info.format = format;
+    info.offset = 0;
+    info.range = VK_WHOLE_SIZE;
+    VK_CHECK(vkCreateBufferView(m_context->device(), &info, nullptr, &m_view));
+    m_context->setName(VK_OBJECT_TYPE_BUFFER_VIEW, uint64_t(m_view), m_name.c_str());
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {

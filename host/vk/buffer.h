@@ -37,6 +37,8 @@ public:
     const std::string& name() const { return m_name; }
     bool valid() const { return m_buffer != VK_NULL_HANDLE; }
     void* mapped() const { return m_mapped; }
+    // The texel view of a buffer made by texels(); VK_NULL_HANDLE otherwise.
+    VkBufferView view() const { return m_view; }
 
     void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
     void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
@@ -62,14 +64,30 @@ public:
         return b;
     }
 
+    // Creates a uniform texel buffer holding `values`, read by the kernels as texels of `format`
+    // (16 bytes each, e.g. R32G32B32A32_UINT), with its view. Refused with a pmcr::Error
+    // above the device's maxTexelBufferElements.
+    template <class T>
+    static Buffer texels(Context& context, const std::vector<T>& values, VkFormat format,
+                         const std::string& name) {
+        static_assert(sizeof(T) % 16 == 0, "texel buffers hold whole 16-byte texels");
+        Buffer b(context, std::max<VkDeviceSize>(16, values.size() * sizeof(T)),
+                 VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, name);
+        if (!values.empty()) b.upload(values);
+        b.createView(format);
+        return b;
+    }
+
 private:
     void release();
+    void createView(VkFormat format);
 
     Context* m_context = nullptr;
     VkBuffer m_buffer = VK_NULL_HANDLE;
     VkDeviceMemory m_memory = VK_NULL_HANDLE;
     VkDeviceSize m_size = 0;
     void* m_mapped = nullptr;
+    VkBufferView m_view = VK_NULL_HANDLE;
     std::string m_name;
 };
 

@@ -1,5 +1,6 @@
 #include "vk/pipeline.h"
 
+#include <algorithm>
 #include <map>
 
 #include "core/error.h"
@@ -21,12 +22,21 @@ std::span<const uint32_t> spirv(const std::string& name) {
 
 namespace {
 
-VkDescriptorSetLayout createSetLayout(VkDevice device, uint32_t count, bool firstIsUniform) {
+// The descriptor type of each binding (shared/bindings.h): the scene set has its uniform
+// SceneInfo and the BVH's texel buffer; everything else is a storage buffer.
+VkDescriptorType descriptorType(DescriptorSet::Kind kind, uint32_t binding) {
+    if (kind == DescriptorSet::Kind::Scene) {
+        if (binding == gpu::BINDING_SCENE_INFO) return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        if (binding == gpu::BINDING_BVH) return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    }
+    return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+VkDescriptorSetLayout createSetLayout(VkDevice device, uint32_t count, DescriptorSet::Kind kind) {
     std::vector<VkDescriptorSetLayoutBinding> bindings(count);
     for (uint32_t i = 0; i < count; ++i) {
         bindings[i].binding = i;
-        bindings[i].descriptorType = (firstIsUniform && i == 0) ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                                                                : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorType = descriptorType(kind, i);
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
@@ -42,8 +52,8 @@ VkDescriptorSetLayout createSetLayout(VkDevice device, uint32_t count, bool firs
 
 PipelineLayout::PipelineLayout(Context& context) : m_context(context) {
     VkDevice device = context.device();
-    m_sceneSetLayout = createSetLayout(device, gpu::SCENE_BINDING_COUNT, true);
-    m_workSetLayout = createSetLayout(device, gpu::WORK_BINDING_COUNT, false);
+    m_sceneSetLayout = createSetLayout(device, gpu::SCENE_BINDING_COUNT, DescriptorSet::Kind::Scene);
+    m_workSetLayout = createSetLayout(device, gpu::WORK_BINDING_COUNT, DescriptorSet::Kind::Work);
     VkDescriptorSetLayout sets[] = {m_sceneSetLayout, m_workSetLayout};
     VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, gpu::PUSH_CONSTANT_BYTES};
     VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -65,8 +75,14 @@ DescriptorSet::DescriptorSet(const PipelineLayout& layout, Kind kind, const std:
     : m_context(layout.context()), m_kind(kind) {
     VkDevice device = m_context.device();
     const uint32_t count = kind == Kind::Scene ? gpu::SCENE_BINDING_COUNT : gpu::WORK_BINDING_COUNT;
-    std::vector<VkDescriptorPoolSize> sizes = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count}};
-    if (kind == Kind::Scene) sizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1});
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (uint32_t i = 0; i < count; ++i) {
+        const VkDescriptorType type = descriptorType(kind, i);
+        auto it = std::find_if(sizes.begin(), sizes.end(),
+                               [type](const VkDescriptorPoolSize& s) { return s.type == type; });
+        if (it == sizes.end()) sizes.push_back({type, 1});
+        else ++it->descriptorCount;
+    }
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = uint32_t(sizes.size());
@@ -92,14 +108,19 @@ void DescriptorSet::bind(uint32_t binding, const Buffer& buffer) {
     const uint32_t count = m_kind == Kind::Scene ? gpu::SCENE_BINDING_COUNT : gpu::WORK_BINDING_COUNT;
     if (binding >= count) throw Error("descriptor binding " + std::to_string(binding) + " out of range");
     VkDescriptorBufferInfo info{buffer.handle(), 0, VK_WHOLE_SIZE};
+    const VkBufferView view = buffer.view();
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = m_set;
     write.dstBinding = binding;
     write.descriptorCount = 1;
-    write.descriptorType = (m_kind == Kind::Scene && binding == gpu::BINDING_SCENE_INFO)
-                               ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
-                               : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    write.pBufferInfo = &info;
+    write.descriptorType = descriptorType(m_kind, binding);
+    if (write.descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) {
+        if (view == VK_NULL_HANDLE)
+            throw Error("descriptor binding " + std::to_string(binding) + " needs a texel buffer");
+        write.pTexelBufferView = &view;
+    } else {
+        write.pBufferInfo = &info;
+    }
     vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
 }
 

@@ -48,7 +48,8 @@ public:
     DescriptorSet(const DescriptorSet&) = delete;
     DescriptorSet& operator=(const DescriptorSet&) = delete;
 
-    // Points `binding` at the whole of `buffer` (uniform for the scene's binding 0, else storage).
+    // Points `binding` at the whole of `buffer`: uniform for the scene's binding 0, its texel
+    // view for the BVH bindings (Buffer::texels), else storage.
     void bind(uint32_t binding, const Buffer& buffer);
     VkDescriptorSet handle() const { return m_set; }
     uint32_t index() const { return m_kind == Kind::Scene ? 0u : 1u; }

@@ -1,22 +1,32 @@
-// BVH traversal used by every kernel: closest hit and any hit on the flattened binary BVH that
+// BVH traversal used by every kernel: closest hit and any hit on the binary BVH that
 // host/scene/bvh.cpp builds. The arithmetic (intersection tests, epsilon policy, traversal
 // order) is that of Bvh::traceClosest / Bvh::traceAny; see host/scene/bvh.h for the policy:
 // Moller-Trumbore with a division-free inside test and inclusive edges, hits with
 // 0 < t < tMax, no self-intersection epsilon (offset origins in the caller).
 //
-// The includer includes shared/host_device.h and declares the scene buffers, scalar layout:
-//   layout(set = SCENE_SET, binding = BINDING_BVH_NODES, scalar) readonly buffer BvhNodes {
-//       BvhNode bvhNodes[];
-//   };
-//   layout(set = SCENE_SET, binding = BINDING_ISECT_TRIANGLES, scalar)
-//       readonly buffer IsectTriangles { IsectTriangle isectTriangles[]; };
+// The BVH is one uniform texel buffer of uvec4 (Bvh::deviceTexels, layout in
+// shared/scene_types.h): node i is texels 2i (boundsMin, ref) and 2i + 1 (boundsMax, count),
+// where ref is the texel address of the first child's record (interior, count == 0) or of the
+// first triangle (leaf); a triangle is three texels (v0 + original index, e1, e2).
 //
-// Bounds: the stack holds BVH_MAX_DEPTH node indices (near child first pushes at most one
-// sibling per level, and the builder caps leaf depth at BVH_MAX_DEPTH); each loop iteration
-// visits one node and no node is visited twice, so the loop runs at most bvhNodes.length()
-// times; a leaf holds at most BVH_MAX_LEAF_TRIANGLES triangles.
+// Written for SIMD-on-CPU implementations (lavapipe runs 8 invocations as the lanes of one
+// vector, both sides of a divergent branch under masks), where memory reads dominate: a texel
+// fetch is a vector gather, while an SSBO load with per-lane addresses is a loop over the
+// lanes. So each traversal step is one "if-if" step (Aila & Laine 2009, "Understanding the
+// Efficiency of Ray Traversal on GPUs") that does the same four texel fetches in every lane,
+// whatever the lane is doing: the two child records of an interior node (4 texels), or one
+// triangle of a leaf (3 texels). The box and the triangle arithmetic are cheap next to them.
+//
+// Bounds: the stack holds BVH_MAX_DEPTH node references (near child first pushes at most one
+// sibling per level, and the builder caps leaf depth at BVH_MAX_DEPTH); each step visits one
+// interior node or one triangle and none twice, so the loop runs fewer than
+// textureSize(bvhTexels) times.
 #ifndef PMCR_COMMON_BVH_GLSL
 #define PMCR_COMMON_BVH_GLSL
+
+layout(set = SCENE_SET, binding = BINDING_BVH) uniform usamplerBuffer bvhTexels;
+
+uvec4 bvhTexel(uint i) { return texelFetch(bvhTexels, int(i)); }
 
 // Reciprocal direction with tiny components clamped to +-BVH_MIN_DIRECTION (-0 taken as +).
 vec3 bvhSafeInverse(vec3 dir) {
@@ -44,86 +54,132 @@ bool bvhIntersectBox(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 invDir, f
 
 // Moller & Trumbore 1997 with the inside test on numerators scaled by |det|; on a hit with
 // 0 < t < hit.t overwrites hit. Same operations as intersectTriangle() in host/scene/bvh.h.
-bool bvhIntersectTriangle(uint index, vec3 origin, vec3 dir, inout Hit hit) {
-    vec4 v0 = isectTriangles[index].v0;
-    vec3 e1 = isectTriangles[index].e1.xyz;
-    vec3 e2 = isectTriangles[index].e2.xyz;
+// v0.w holds the original triangle index (as float bits).
+bool bvhIntersectTriangle(vec4 v0, vec3 e1, vec3 e2, vec3 origin, vec3 dir, inout Hit hit) {
     vec3 p = cross(dir, e2);
     float det = dot(e1, p);
     float sgn = det < 0.0 ? -1.0 : 1.0;
     float absDet = det * sgn;
     vec3 s = origin - v0.xyz;
     float u = dot(s, p) * sgn;
-    if (!(absDet > 0.0) || u < 0.0 || u > absDet) {
-        return false;
-    }
     vec3 q = cross(s, e1);
     float v = dot(dir, q) * sgn;
-    if (v < 0.0 || u + v > absDet) {
-        return false;
-    }
     float invDet = 1.0 / absDet;
     float t = dot(e2, q) * sgn * invDet;
-    if (!(t > 0.0) || !(t < hit.t)) {
+    // One test of everything (no early outs: on SIMD lanes every branch costs mask work).
+    bool inside = absDet > 0.0 && u >= 0.0 && u <= absDet && v >= 0.0 && u + v <= absDet;
+    if (!(inside && t > 0.0 && t < hit.t)) {
         return false;
     }
     hit = Hit(t, floatBitsToUint(v0.w), u * invDet, v * invDet);
     return true;
 }
 
-// Near-child-first traversal of adjacent child pairs; with anyHit it returns at the first hit.
+// The traversal's reference to a node: its ref * 8 + count (count <= BVH_MAX_LEAF_TRIANGLES
+// < 8; Bvh::deviceTexels keeps texel addresses below 2^29). Inside a leaf the same form walks
+// its triangles: address of the next one * 8 + how many are left.
+uint bvhNodeRef(uvec4 lo, uvec4 hi) { return (lo.w << 3) | hi.w; }
+
+// Near-child-first traversal; with anyHit it returns at the first hit. An interior step tests
+// both child boxes, descends into the nearer and pushes the farther; a leaf step tests one
+// triangle.
 bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
     vec3 invDir = bvhSafeInverse(dir);
+    uvec4 rootLo = bvhTexel(0u);
+    uvec4 rootHi = bvhTexel(1u);
     float tEntry;
-    if (!bvhIntersectBox(bvhNodes[0].boundsMin, bvhNodes[0].boundsMax, origin, invDir, hit.t,
-                         tEntry)) {
+    if (!bvhIntersectBox(uintBitsToFloat(rootLo.xyz), uintBitsToFloat(rootHi.xyz), origin,
+                         invDir, hit.t, tEntry)) {
         return false;
     }
-    uint stack[BVH_MAX_DEPTH];
+    // The stack's top eight entries live in registers, the rest in a local array (on lavapipe a
+    // local array indexed per lane is a scatter or gather on every access).
+    uint top0 = 0u;
+    uint top1 = 0u;
+    uint top2 = 0u;
+    uint top3 = 0u;
+    uint top4 = 0u;
+    uint top5 = 0u;
+    uint top6 = 0u;
+    uint top7 = 0u;
+    uint stackSpill[BVH_MAX_DEPTH];
     uint stackSize = 0u;
-    uint node = 0u;
+    uint ref = bvhNodeRef(rootLo, rootHi);
     bool found = false;
-    uint nodeCount = uint(bvhNodes.length());
-    for (uint visit = 0u; visit < nodeCount; ++visit) {
-        uint count = bvhNodes[node].count;
-        uint first = bvhNodes[node].leftOrFirst;
+    uint texelCount = uint(textureSize(bvhTexels));
+    for (uint step = 0u; step < texelCount; ++step) {
+        uint count = ref & 7u;
+        uint address = ref >> 3;
+        // The same four fetches in every lane: two child records, or a triangle (the fourth
+        // fetch repeats its first texel, so it never reads past the last triangle).
+        uvec4 w0 = bvhTexel(address);
+        uvec4 w1 = bvhTexel(address + 1u);
+        uvec4 w2 = bvhTexel(address + 2u);
+        uvec4 w3 = bvhTexel(count > 0u ? address : address + 3u);
         if (count > 0u) {
-            for (uint i = 0u; i < BVH_MAX_LEAF_TRIANGLES; ++i) {
-                if (i >= count) {
-                    break;
+            if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1.xyz),
+                                     uintBitsToFloat(w2.xyz), origin, dir, hit)) {
+                if (anyHit) {
+                    return true;
                 }
-                if (bvhIntersectTriangle(first + i, origin, dir, hit)) {
-                    if (anyHit) {
-                        return true;
-                    }
-                    found = true;
-                }
+                found = true;
+            }
+            if (count > 1u) {
+                ref = ((address + 3u) << 3) | (count - 1u);
+                continue;
             }
         } else {
             float tLeft;
             float tRight;
-            bool hitLeft = bvhIntersectBox(bvhNodes[first].boundsMin, bvhNodes[first].boundsMax,
+            bool hitLeft = bvhIntersectBox(uintBitsToFloat(w0.xyz), uintBitsToFloat(w1.xyz),
                                            origin, invDir, hit.t, tLeft);
-            bool hitRight =
-                bvhIntersectBox(bvhNodes[first + 1u].boundsMin, bvhNodes[first + 1u].boundsMax,
-                                origin, invDir, hit.t, tRight);
+            bool hitRight = bvhIntersectBox(uintBitsToFloat(w2.xyz), uintBitsToFloat(w3.xyz),
+                                            origin, invDir, hit.t, tRight);
+            uint leftRef = bvhNodeRef(w0, w1);
+            uint rightRef = bvhNodeRef(w2, w3);
             if (hitLeft && hitRight) {
                 bool leftFirst = tLeft <= tRight;
                 if (stackSize < BVH_MAX_DEPTH) {
-                    stack[stackSize++] = leftFirst ? first + 1u : first;
+                    if (stackSize >= 8u) {
+                        stackSpill[stackSize - 8u] = top7;
+                    }
+                    top7 = top6;
+                    top6 = top5;
+                    top5 = top4;
+                    top4 = top3;
+                    top3 = top2;
+                    top2 = top1;
+                    top1 = top0;
+                    top0 = leftFirst ? rightRef : leftRef;
+                    ++stackSize;
                 }
-                node = leftFirst ? first : first + 1u;
+                ref = leftFirst ? leftRef : rightRef;
                 continue;
             }
             if (hitLeft || hitRight) {
-                node = hitLeft ? first : first + 1u;
+                ref = hitLeft ? leftRef : rightRef;
                 continue;
             }
         }
+        // Pop the next subtree. Unlike Bvh::traverse, no entry distance is kept to skip
+        // subtrees beyond the closest hit when popped: the popped node's children are culled
+        // by their boxes in the next step anyway, and on lavapipe the second stack array and
+        // the skipping loop cost more than that step (measured: 30-45% more rays/s without).
         if (stackSize == 0u) {
             break;
         }
-        node = stack[--stackSize];
+        ref = top0;
+        top0 = top1;
+        top1 = top2;
+        top2 = top3;
+        top3 = top4;
+        top4 = top5;
+        top5 = top6;
+        top6 = top7;
+        --stackSize;
+        if (stackSize >= 8u) {
+            top7 = stackSpill[stackSize - 8u];
+        }
     }
     return found;
 }

@@ -14,12 +14,6 @@ layout(set = SCENE_SET, binding = BINDING_VERTICES, scalar) readonly buffer Vert
 layout(set = SCENE_SET, binding = BINDING_TRIANGLES, scalar) readonly buffer TriangleBuffer {
     Triangle triangles[];
 };
-layout(set = SCENE_SET, binding = BINDING_ISECT_TRIANGLES, scalar) readonly buffer IsectBuffer {
-    IsectTriangle isectTriangles[];
-};
-layout(set = SCENE_SET, binding = BINDING_BVH_NODES, scalar) readonly buffer BvhBuffer {
-    BvhNode bvhNodes[];
-};
 layout(set = SCENE_SET, binding = BINDING_MATERIALS, scalar) readonly buffer MaterialBuffer {
     Material materials[];
 };

@@ -8,8 +8,8 @@ PMCR_CONST uint SCENE_SET = 0;
 PMCR_CONST uint BINDING_SCENE_INFO = 0;      // SceneInfo (uniform)
 PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[]
 PMCR_CONST uint BINDING_TRIANGLES = 2;       // Triangle[]            (original order)
-PMCR_CONST uint BINDING_ISECT_TRIANGLES = 3; // IsectTriangle[]       (BVH leaf order)
-PMCR_CONST uint BINDING_BVH_NODES = 4;       // BvhNode[]
+                                             // 3: unused
+PMCR_CONST uint BINDING_BVH = 4;             // uvec4 texel buffer: nodes and triangles (Bvh::deviceTexels)
 PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[]
 PMCR_CONST uint BINDING_EMITTERS = 6;        // Emitter[]             (alias table over emitters)
 PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]

@@ -39,6 +39,16 @@ struct BvhNode {
 };
 PMCR_CHECK_SIZE(BvhNode, 32);
 
+// The kernels read the BVH as one texel buffer of uvec4 (Bvh::deviceTexels, BINDING_BVH):
+//   node i:     texel 2i     = (boundsMin bits, ref), texel 2i + 1 = (boundsMax bits, count),
+//               ref = texel address of child leftOrFirst's record (2 * leftOrFirst) when
+//               count == 0, else of triangle leftOrFirst;
+//   triangle j: texels 2 * nodeCount + 3j + {0, 1, 2} = IsectTriangle j's v0, e1, e2.
+// A texel fetch is a vector gather on lavapipe, where SSBO loads with per-lane addresses loop
+// over the lanes (shaders/common/bvh.glsl). Addresses stay below BVH_MAX_TEXELS so that the
+// traversal can pack address * 8 + count into one uint.
+PMCR_CONST uint BVH_MAX_TEXELS = 1u << 29;
+
 // Build limits. Leaves hold at most BVH_MAX_LEAF_TRIANGLES; the root has depth 0 and every
 // leaf has depth <= BVH_MAX_DEPTH. Near-child-first traversal pushes at most one sibling per
 // level, so a stack of BVH_MAX_DEPTH entries never overflows (shaders/common/bvh.glsl).

@@ -7,12 +7,6 @@
 #include "shared/host_device.h"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
-layout(set = SCENE_SET, binding = BINDING_BVH_NODES, scalar) readonly buffer BvhNodes {
-    BvhNode bvhNodes[];
-};
-layout(set = SCENE_SET, binding = BINDING_ISECT_TRIANGLES, scalar) readonly buffer IsectTriangles {
-    IsectTriangle isectTriangles[];
-};
 layout(set = WORK_SET, binding = 0, scalar) readonly buffer Queries { BvhQuery queries[]; };
 layout(set = WORK_SET, binding = 1, scalar) writeonly buffer Hits { Hit hits[]; };
 layout(set = WORK_SET, binding = 2, scalar) writeonly buffer Occluded { uint occluded[]; };
