@@ -1,6 +1,6 @@
 #version 460
-// PMC-ER: when rendering ends, every member deposits the energy it has left, E_remain e_d, at its
-// current pixel with its current colour, so that every member deposits its whole energy.
+// PMC-ER: when rendering ends, every member deposits the energy it has left, E_remain shares e_d,
+// at its current pixel with its current colour, so that every member deposits its whole energy.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -26,7 +26,7 @@ void main() {
             ChainState st = chains[member];
             Rng rng;
             rng.state = st.rng;
-            depositAt(st, rasterPixel(st.raster), st.throughput, m.remaining, rng, 0u, counters);
+            depositAt(st, rasterPixel(st.raster), st.throughput, m.remaining * m.shares, rng, 0u, counters);
             st.rng = rng.state;
             chains[member] = st;
             m.remaining = 0.0;

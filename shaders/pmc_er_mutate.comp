@@ -4,11 +4,12 @@
 // alpha (eq. 5), then a caustic perturbation with probability gamma_caustic where it applies
 // (angles uniform in [0, thetaMax(d_k)], eq. 6) or a lens perturbation in the disk of radius
 // d_k, is accepted with that component's own transition density (eq. 9, Tierney 1998), and
-// e_d is deposited at the (new) current path's pixel with its colour (common/erpt_chain.glsl).
+// `shares` e_d are deposited at the (new) current path's pixel with its colour
+// (common/erpt_chain.glsl).
 //
-// Energy bookkeeping: each mutation takes one e_d from E_remain. When less than one e_d is left,
-// Russian roulette: the member makes its last mutation (depositing e_d) with probability
-// E_remain, and dies either way, so the expected deposit is E_remain exactly.
+// Bookkeeping: each mutation takes one from E_remain. When less than one is left, Russian
+// roulette: the member makes its last mutation with probability E_remain and dies either way,
+// so the expected number of deposits is E_remain exactly (host/render/path_population.h).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -75,7 +76,7 @@ void main() {
                 float a;
                 bool caustic;
                 chainStep(member, st, rng, MUTATION_MIX, push.causticProbability, push.radii[k],
-                          lensAngle, causticAngle, 0u, 0u, counters, a, caustic);
+                          lensAngle, causticAngle, 0u, 0u, m.shares, counters, a, caustic);
                 m.acceptSum[k] += a;
                 m.mutations += 1u;
             }

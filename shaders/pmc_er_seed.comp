@@ -4,6 +4,9 @@
 // with probability lum(c_s) / sum_s lum(c_s), carrying the whole sample's energy
 // E = seedScale * sum_s lum(c_s) (PMC-ER eq. 2, in units of e_d). In expectation path s then
 // carries lum(c_s) seedScale, the energy it would carry on its own (as ERPT's chain counts do).
+// Equal births (the default) give every member the same E_remain = Q and n = floor(U + E / Q)
+// shares (e_d per deposit), so that no member's lifetime depends on its path; the paper's births
+// give E_remain = E and one share (host/render/path_population.h says why that is biased).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #extension GL_EXT_shader_atomic_float : require
@@ -47,6 +50,7 @@ void main() {
         for (uint k = push.componentCount; k < PMC_ER_MAX_RADII; ++k) m.alpha[k] = 0.0;
         m.acceptSum = vec3(0.0);
         m.mutations = 0u;
+        m.shares = 0.0;
         ChainState st;
         st.vertexCount = 0u;
         if (total > 0.0) {
@@ -62,12 +66,16 @@ void main() {
                 u -= luminance(c);
                 if (u < 0.0) break;
             }
-            if (found) {
+            float e = total * push.seedScale;
+            // Equal births: n = floor(U + E / Q) shares of one member of energy Q (E[n Q] = E).
+            float shares = push.birth == PMC_ER_BIRTH_EQUAL ? floor(rngNext(rng) + e / push.birthEnergy) : 1.0;
+            if (found && shares > 0.0) {
                 st = chainFromSeedPath(member, rec, chosen);
-                m.remaining = total * push.seedScale;
-                seedEnergy = m.remaining;
+                m.remaining = push.birth == PMC_ER_BIRTH_EQUAL ? push.birthEnergy : e;
+                m.shares = shares;
                 atomicAdd(pixelStats[rec.pixel].chainsStarted, 1u);
             }
+            seedEnergy = e;
         }
         if (st.vertexCount == 0u) {
             st.raster = rec.raster;

@@ -3,30 +3,36 @@
 // regenerate. Pure C++ over the members' bookkeeping (shared/pmc_er_types.h PmcErMember); the
 // paths themselves stay on the device.
 //
-// Energy contract. A member's energy E (units of e_d) is what it still owes the image. A mutation
-// deposits one e_d and takes one from E; below one, the last deposit is made with probability E
-// (Russian roulette, shaders/pmc_er_mutate.comp). At elimination member i survives with
-// probability p_i and a survivor's E becomes E / p_i; a member eliminated deposits nothing more.
-// When rendering ends every member deposits its E at once. By induction over the steps, the
-// expected energy a member still deposits equals its E at any time: a mutation step gives
-// 1 + (E - 1) for E >= 1 and E * 1 + 0 below; elimination gives p_i (E / p_i) + (1 - p_i) 0 = E;
-// the end gives E. So every member deposits, in expectation, exactly its initial energy, and the
-// image's expected total energy is the seeds' (tests/host/test_path_population.cpp,
-// tests/stat/test_pmc_er.cpp).
+// Energy contract. A member's E_remain counts the deposits it still owes the image, each of
+// `shares` e_d. A mutation deposits and takes one from E_remain; below one, the last deposit is
+// made with probability E_remain (Russian roulette, shaders/pmc_er_mutate.comp). At elimination
+// member i survives with probability p_i and a survivor's E_remain becomes E_remain / p_i; a
+// member eliminated deposits nothing more. When a pass ends the members go on mutating without
+// regeneration (the drain) and deposit whatever is left at once. By induction over the steps,
+// the expected number of deposits a member still makes equals its E_remain at any time: a
+// mutation gives 1 + (E - 1) for E >= 1 and E * 1 + 0 below; elimination gives
+// p_i (E / p_i) + (1 - p_i) 0 = E; the end gives E. So every member deposits, in expectation,
+// exactly its initial energy, and the image's expected total energy is the seeds'
+// (tests/host/test_path_population.cpp, tests/stat/test_pmc_er.cpp).
 //
-// What this does not prove. Energy in expectation is necessary, not sufficient, for an
-// unbiased image. ERPT starts chains of a fixed length m in proportion to the seed's energy,
-// so at every step the expected deposits are those of f-invariant chains started from f, and
-// they are f. Here a member's lifetime grows with its energy, and the deposits of a chain of
-// lifetime n(x0) average K^1..K^n(x0) from x0, which is not f-invariant when n depends on x0.
-// Two states A, B with f = 1 each, K the swap (reversible for f), p(A) = 0.9, p(B) = 0.1, so
-// e(A) = 1.1, e(B) = 10; with e_d = 1.1, a path from A lives one step (deposits at B), one
-// from B nine (A five times, B four): E[A] = 0.1 * 5 * 1.1 = 0.55, E[B] = 0.9 * 1.1 + 0.1 * 4 * 1.1
-// = 1.43, not 1 and 1. The same holds for alpha adapted from a member's own acceptances (adaptive
-// MCMC). Both effects are small where a path's neighbourhood holds paths of similar energy, and
-// the per-pixel z-test against path tracing measures them; splitting each seed into members of
-// equal energy (ERPT's chain counts) whose lifetimes do not depend on their paths would make the
-// image exact.
+// Energy in expectation is necessary, not sufficient, for an unbiased image. ERPT starts chains
+// of a fixed length m in proportion to the seed's energy, so at every step the expected deposits
+// are those of f-invariant chains started from f, which are f. With the paper's births
+// (E_remain = the path's energy E, one share) a member's lifetime grows with E, and a chain of
+// lifetime n(x0) deposits the average of K^1..K^n(x0) from x0, not f-invariant when n depends on
+// x0. Two states A, B with f = 1 each, K the swap (reversible for f), p(A) = 0.9, p(B) = 0.1, so
+// e(A) ~ 1.1, e(B) = 10; with e_d = 1.1 a path from A lives one step (deposits at B), one from B
+// nine (A five times, B four): E[A] = 0.1 * 5 * 1.1 = 0.55, E[B] = 0.9 * 1.1 + 0.1 * 4 * 1.1 =
+// 1.43, not 1 and 1. In images this blurs: long-lived bright paths spread their energy, short-lived
+// dark ones keep theirs, so dark pixels come out too bright and bright ones too dark
+// (tests/stat/test_pmc_er.cpp has the numbers). Equal births (the default) make every member
+// start with the same E_remain = Q and carry n = floor(U + E / Q) shares (E[n Q] = E): the
+// lifetime law then depends on nothing but the survival coins and E_remain histories, never on
+// the member's path, and a member is n ERPT chains of one common trajectory. Survival by
+// E_remain stays independent of the path for the same reason.
+//
+// Alpha adapted from a member's own acceptances is adaptive MCMC: in principle not exactly
+// f-invariant either; the z-test does not detect it (pmc-er:epsilon=1 turns adaptation off).
 #pragma once
 
 #include <array>

@@ -50,6 +50,10 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     const int prepass = s.optionInt("prepass-spp", int(o.prepassSpp));
     if (prepass < 1 || prepass > 4096) throw Error("--prepass-spp: expected 1..4096");
     o.prepassSpp = uint32_t(prepass);
+    const std::string birth = s.optionString("birth", "equal");
+    if (birth == "equal") o.birth = gpu::PMC_ER_BIRTH_EQUAL;
+    else if (birth == "path") o.birth = gpu::PMC_ER_BIRTH_PATH;
+    else throw Error("--birth: expected equal or path, got '" + birth + "'");
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
@@ -157,6 +161,9 @@ RenderOutput PmcEr::render(RenderSession& session) {
     push.seedScale = seedScale;
     for (int k = 0; k < components; ++k) push.radii[k] = float(o.radii[size_t(k)]);
     push.causticProbability = o.causticProbability;
+    push.birth = o.birth;
+    // Q: the mean energy of a pool path (units of e_d), the mutations a member makes on average.
+    push.birthEnergy = float(mutationsPerPass / double(poolPerPass));
     push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
     push.lensThetaMax = 0.1f;
 
@@ -294,13 +301,15 @@ RenderOutput PmcEr::render(RenderSession& session) {
             for (bool first = true;; first = false) {
                 auto state = downloadMembers();
                 double left = 0.0, most = 0.0;
+                uint64_t alive = 0;
                 for (const auto& m : state) {
-                    left += std::max(0.0f, m.remaining);
+                    left += std::max(0.0f, m.remaining) * m.shares;
                     most = std::max(most, double(m.remaining));
+                    alive += m.remaining > 0.0f ? 1 : 0;
                 }
                 if (left <= 0.0 || drainBudget == 0 || session.interrupted()) break;
                 const uint32_t steps = uint32_t(std::clamp(std::ceil(most), 1.0, double(4 * o.mutations)));
-                drainBudget -= std::min<uint64_t>(drainBudget, uint64_t(population) * steps);
+                drainBudget -= std::min<uint64_t>(drainBudget, alive * steps);
                 if (first) drainedEnergy += left;
                 mutate(steps);
             }
@@ -310,7 +319,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
             }
             auto state = downloadMembers();
             for (const auto& m : state) {
-                remainderEnergy += std::max(0.0f, m.remaining);
+                remainderEnergy += std::max(0.0f, m.remaining) * m.shares;
                 for (int k = 0; k < components; ++k) alphaSum[size_t(k)] += m.alpha[k];
                 ++alphaMembers;
             }
@@ -368,6 +377,8 @@ RenderOutput PmcEr::render(RenderSession& session) {
         {"replacements_per_iteration", replacements},
         {"pool_paths_per_pass", poolPerPass},
         {"mutations_per_member", o.mutations},
+        {"birth", o.birth == gpu::PMC_ER_BIRTH_EQUAL ? "equal" : "path"},
+        {"birth_energy", push.birthEnergy},
         {"mean_luminance_prepass", meanLuminance},
         {"deposit_energy", depositEnergy},
         {"mutations", c.values[gpu::COUNTER_LENS_PROPOSED] + c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},

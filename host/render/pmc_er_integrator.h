@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "render/integrator.h"
+#include "shared/host_device.h"
 
 namespace pmcr {
 
@@ -41,6 +42,7 @@ struct PmcErOptions {
     uint32_t iterations = 0;         // per pass; 0: from passSpp
     uint32_t prepassSpp = 4;
     uint32_t stepsPerDispatch = 4;
+    uint32_t birth = 0;              // gpu::PMC_ER_BIRTH_*
 
     static PmcErOptions fromSettings(const RenderSettings& settings);
 };

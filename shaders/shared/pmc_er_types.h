@@ -6,12 +6,17 @@
 PMCR_CONST uint PMC_ER_MAX_RADII = 3;  // strategy image: red, green, blue
 
 struct PmcErMember {
-    float remaining;     // E_remain, in units of e_d (PMC-ER sec. 4.5); <= 0: dead
+    float remaining;     // E_remain in mutations left: each deposits `shares` e_d; <= 0: dead
     vec3 alpha;          // mixture weights of the radius components (eq. 5), sum 1
     vec3 acceptSum;      // alpha'_k: sum of acceptance probabilities per component (sec. 4.5)
-    uint mutations;      // mutations made since (re)generation
+    uint mutations;      // mutations made since the last count (the host resets it)
+    float shares;        // e_d per deposit: 1 with the paper's births; n with equal births
 };
-PMCR_CHECK_SIZE(PmcErMember, 32);
+PMCR_CHECK_SIZE(PmcErMember, 36);
+
+// How a member is born from a path of energy E (units of e_d), PmcErPush.birthEnergy.
+PMCR_CONST uint PMC_ER_BIRTH_EQUAL = 0;  // E_remain = Q, shares n = floor(U + E / Q) (n = 0: none)
+PMCR_CONST uint PMC_ER_BIRTH_PATH = 1;   // the paper's: E_remain = E, shares 1
 
 // Work-set bindings: ERPT's 0..9 (shared/chain_types.h) keep their meaning, then:
 PMCR_CONST uint PMC_ER_BINDING_MEMBERS = 10;     // PmcErMember[population]
@@ -31,7 +36,7 @@ struct PmcErPush {
     float causticProbability;// gamma_caustic where the caustic perturbation applies (0.9)
     float lensThetaMin;      // lens perturbation's angles past a D vertex (log-uniform, ERPT)
     float lensThetaMax;
-    uint pad0;
-    uint pad1;
+    uint birth;              // PMC_ER_BIRTH_*
+    float birthEnergy;       // Q, units of e_d (PMC_ER_BIRTH_EQUAL)
 };
 PMCR_CHECK_SIZE(PmcErPush, 64);
