@@ -9,6 +9,7 @@
 #include "core/random.h"
 #include "render/energy_estimate.h"
 #include "render/path_population.h"
+#include "render/redistribution.h"
 #include "render/pixel_population.h"
 #include "render/splat_film.h"
 #include "vk/command_batch.h"
@@ -126,7 +127,6 @@ RenderOutput PmcEr::render(RenderSession& session) {
     vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                           "pmc-er pixel stats");
     pixelStats.fill(0);
-    vk::Buffer energy(context, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er energy", vk::MemoryUsage::Readback);
 
     vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er pool paths");
     ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
@@ -143,7 +143,9 @@ RenderOutput PmcEr::render(RenderSession& session) {
     work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
     work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
     work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
-    work.bind(gpu::ERPT_BINDING_ENERGY, energy);
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
     work.bind(gpu::PMC_ER_BINDING_MEMBERS, members);
     work.bind(gpu::PMC_ER_BINDING_STRATEGY, strategy);
     work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
@@ -167,27 +169,14 @@ RenderOutput PmcEr::render(RenderSession& session) {
     push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
     push.lensThetaMax = 0.1f;
 
-    vk::CommandBatch batch(session.layout(), &session.timer());
-    double seedEnergy = 0.0, depositedEnergy = 0.0;
     uint64_t poolUsed = 0, mutationsRun = 0, eliminated = 0;
     double remainderEnergy = 0.0;  // deposited at the passes' ends, in units of e_d
     double drainedEnergy = 0.0;    // held by the population when the passes' drains started
     std::vector<double> alphaSum(size_t(components), 0.0);
     uint64_t alphaMembers = 0;
     DispatchSizer sizer(1024, population, session.targetDispatchSeconds());
-    auto submit = [&]() {
-        batch.submitAndWait();
-        film.addCounters(session.counters());
-        float e[2];
-        energy.download(e, sizeof(e));
-        seedEnergy += e[0];
-        depositedEnergy += e[1];
-    };
-    auto beginBatch = [&]() {
-        batch.fill(film.counters(), 0);
-        batch.fill(energy, 0);
-        batch.bind(session.scene().descriptorSet());
-    };
+    auto submit = [&]() { batches.submit(); };
+    auto beginBatch = [&]() { batches.begin(); };
 
     // Work goes into batches of a few dispatches (one submission each, on the render clock).
     const uint32_t perBatch = uint32_t(std::clamp(
@@ -366,7 +355,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     out.samplesPerPixel = double(out.cameraSamples) / double(pixels);
 
     const Counters& c = session.counters();
-    auto ratio = [](uint64_t a, uint64_t b) { return b > 0 ? double(a) / double(b) : 0.0; };
+    const double seedEnergy = batches.seedEnergy(), depositedEnergy = batches.depositedEnergy();
     nlohmann::json meanAlpha = nlohmann::json::array();
     for (int k = 0; k < components; ++k)
         meanAlpha.push_back(alphaMembers > 0 ? alphaSum[size_t(k)] / double(alphaMembers) : 0.0);
@@ -382,13 +371,6 @@ RenderOutput PmcEr::render(RenderSession& session) {
         {"mean_luminance_prepass", meanLuminance},
         {"deposit_energy", depositEnergy},
         {"mutations", c.values[gpu::COUNTER_LENS_PROPOSED] + c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
-        {"lens_proposed", c.values[gpu::COUNTER_LENS_PROPOSED]},
-        {"lens_acceptance", ratio(c.values[gpu::COUNTER_LENS_ACCEPTED], c.values[gpu::COUNTER_LENS_PROPOSED])},
-        {"caustic_proposed", c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
-        {"caustic_acceptance", ratio(c.values[gpu::COUNTER_CAUSTIC_ACCEPTED], c.values[gpu::COUNTER_CAUSTIC_PROPOSED])},
-        {"invalid_proposals", c.values[gpu::COUNTER_INVALID_PROPOSALS]},
-        {"deposits", c.values[gpu::COUNTER_DEPOSITS]},
-        {"deposits_dropped", c.values[gpu::COUNTER_DEPOSITS_DROPPED]},
         {"member_mutations", mutationsRun},  // as counted by the members (= mutations)
         {"eliminated", eliminated},
         {"mean_final_alpha", meanAlpha},
@@ -400,6 +382,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
         // Zero in expectation only (path_population.h): the noise of survival and roulette.
         {"deposited_vs_seed_energy", seedEnergy > 0.0 ? depositedEnergy / seedEnergy - 1.0 : 0.0},
     };
+    out.methodStats.update(mutationStatistics(c));
     return out;
 }
 
