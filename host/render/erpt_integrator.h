@@ -29,6 +29,7 @@ struct ErptOptions {
     uint32_t mutationMode = 0;          // gpu::MUTATION_*
     float causticProbability = 0.5f;    // MUTATION_MIX
     bool expectedValues = false;
+    bool depositDirect = true;          // --redistribute indirect: direct seed paths deposited as pt
     int filterProposalsRadius = 0;      // biased: box radius of the proposal filter (3 = 7x7)
     uint32_t filterConsecutive = 0;     // biased: cap on consecutive deposits on a pixel
     uint32_t stepsPerDispatch = 4;

@@ -74,6 +74,7 @@ const std::vector<MethodInfo>& methods() {
           {"mutation", "erpt", "erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
           {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
           {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
+          {"redistribute", "indirect", "all seed paths, or indirect: the emitter seen directly and direct light at the first hit are deposited at their pixel"},
           {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
           {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
           {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},

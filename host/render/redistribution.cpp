@@ -19,10 +19,11 @@ void RedistributionBatch::begin() {
 void RedistributionBatch::submit() {
     m_batch.submitAndWait();
     m_session.film().addCounters(m_session.counters());
-    float e[2];
+    float e[3];
     m_energy.download(e, sizeof(e));
     m_seedEnergy += e[0];
     m_depositedEnergy += e[1];
+    m_directEnergy += e[2];
 }
 
 nlohmann::json mutationStatistics(const Counters& c) {
