@@ -28,7 +28,7 @@ void main() {
             float a;
             bool caustic;
             chainStep(chain, st, rng, push.mutationMode, push.causticProbability, push.lensRadius,
-                      angle, angle, push.flags, push.consecutiveCap, counters, a, caustic);
+                      angle, angle, push.flags, push.consecutiveCap, 1.0, counters, a, caustic);
         }
         st.rng = rng.state;
         chains[chain] = st;

@@ -42,38 +42,11 @@ void main() {
             within -= n;
         }
 
-        // Copy the seed path x1..x_j (+ the light point) into slot 0.
+        // Copy the seed path into slot 0.
         uint chain = push.chainBase + i;
-        uint base = pathBase(chain, 0u);
-        uint j = s / 2u;
-        bool explicitPath = (s & 1u) == 1u;
-        for (uint v = 0u; v <= j; ++v) {
-            PathVertex pv = recordVertices[rec.firstVertex + v];
-            uint flags = 0u;
-            if (v < j) {
-                flags = pv.flags & (VERTEX_SPECULAR | VERTEX_TRANSMISSION);
-                if ((pv.flags & VERTEX_SPECULAR) != 0u) flags |= pv.lobe << CHAIN_LOBE_SHIFT;
-            } else if (!explicitPath) {
-                flags = VERTEX_EMITTER;
-            }
-            chainVertices[base + v] = makeChainVertex(pv.triangle, pv.barycentrics, flags);
-        }
-        uint k = j + 1u;
-        if (explicitPath) {
-            PathVertex pv = recordVertices[rec.firstVertex + j];
-            chainVertices[base + k] = makeChainVertex(pv.lightTriangle, vec2(pv.lightB1, pv.lightB2), VERTEX_EMITTER);
-            k += 1u;
-        }
-        ChainState st;
-        st.raster = rec.raster;
-        st.vertexCount = k;
-        st.slot = 0u;
-        st.throughput = pathThroughput(base, k);
+        ChainState st = chainFromSeedPath(chain, rec, s);
         st.rng = hash3(push.seed ^ 0xc4a1e5u, push.pass, c);
-        st.lastPixel = 0xffffffffu;
-        st.consecutive = 0u;
         st.origin = r * (2u * PATH_MAX_VERTICES) + s;
-        st.pad = 0u;
         chains[chain] = st;
         atomicAdd(pixelStats[rec.pixel].chainsStarted, 1u);
     }

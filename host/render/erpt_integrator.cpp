@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "render/energy_estimate.h"
+#include "render/redistribution.h"
 #include "render/splat_film.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
@@ -120,7 +121,6 @@ RenderOutput Erpt::render(RenderSession& session) {
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chain vertices");
     vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pixel chain stats");
     pixelStats.fill(0);
-    vk::Buffer energy(context, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "energy", vk::MemoryUsage::Readback);
 
     vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "erpt seed pass");
     ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
@@ -139,7 +139,9 @@ RenderOutput Erpt::render(RenderSession& session) {
     work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
     work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
     work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
-    work.bind(gpu::ERPT_BINDING_ENERGY, energy);
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
 
     gpu::PtPush ptPush{};
     ptPush.source = gpu::PT_SOURCE_TILE;
@@ -163,26 +165,11 @@ RenderOutput Erpt::render(RenderSession& session) {
                  (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u);
     push.consecutiveCap = o.filterConsecutive;
 
-    vk::CommandBatch batch(session.layout(), &session.timer());
-    double seedEnergy = 0.0, depositedEnergy = 0.0, directEnergy = 0.0;
     uint64_t chainsStarted = 0;
     uint64_t chainSteps = 0;  // mutations run, each depositing e_d in total (equal deposition)
     DispatchSizer sizer(4096, kChainCapacity, session.targetDispatchSeconds());
-    // Records the batch's counter and energy buffers into the totals.
-    auto submit = [&]() {
-        batch.submitAndWait();
-        film.addCounters(session.counters());
-        float e[3];
-        energy.download(e, sizeof(e));
-        seedEnergy += e[0];
-        depositedEnergy += e[1];
-        directEnergy += e[2];
-    };
-    auto beginBatch = [&]() {
-        batch.fill(film.counters(), 0);
-        batch.fill(energy, 0);
-        batch.bind(session.scene().descriptorSet());
-    };
+    auto submit = [&]() { batches.submit(); };
+    auto beginBatch = [&]() { batches.begin(); };
     if (depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         for (uint32_t pass = 0; pass < spp && !session.shouldStop(); ++pass) {
             push.pass = pass;
@@ -276,8 +263,8 @@ RenderOutput Erpt::render(RenderSession& session) {
     out.cameraSamples = uint64_t(passes) * pixels;
     out.samplesPerPixel = passes;
 
-    const Counters& c = session.counters();
-    auto ratio = [](uint64_t a, uint64_t b) { return b > 0 ? double(a) / double(b) : 0.0; };
+    const double seedEnergy = batches.seedEnergy(), depositedEnergy = batches.depositedEnergy();
+    const double directEnergy = batches.directEnergy();
     out.methodStats = {
         {"passes", passes},
         {"mean_luminance_prepass", meanLuminance},
@@ -285,13 +272,6 @@ RenderOutput Erpt::render(RenderSession& session) {
         {"chain_length", o.chainLength},
         {"mutations_per_pixel_per_pass", o.mutationsPerPixel},
         {"chains_started", chainsStarted},
-        {"lens_proposed", c.values[gpu::COUNTER_LENS_PROPOSED]},
-        {"lens_acceptance", ratio(c.values[gpu::COUNTER_LENS_ACCEPTED], c.values[gpu::COUNTER_LENS_PROPOSED])},
-        {"caustic_proposed", c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
-        {"caustic_acceptance", ratio(c.values[gpu::COUNTER_CAUSTIC_ACCEPTED], c.values[gpu::COUNTER_CAUSTIC_PROPOSED])},
-        {"invalid_proposals", c.values[gpu::COUNTER_INVALID_PROPOSALS]},
-        {"deposits", c.values[gpu::COUNTER_DEPOSITS]},
-        {"deposits_dropped", c.values[gpu::COUNTER_DEPOSITS_DROPPED]},
         {"seed_energy", seedEnergy},        // in units of e_d, all passes
         {"deposited_energy", depositedEnergy},
         {"chain_steps", chainSteps},
@@ -308,6 +288,7 @@ RenderOutput Erpt::render(RenderSession& session) {
         {"direct_energy_share", directEnergy + seedEnergy > 0.0 ? directEnergy / (directEnergy + seedEnergy) : 0.0},
         {"biased_filters", o.filterProposalsRadius > 0 || o.filterConsecutive > 0},
     };
+    out.methodStats.update(mutationStatistics(session.counters()));
     return out;
 }
 

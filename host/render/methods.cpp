@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "render/erpt_integrator.h"
+#include "render/pmc_er_integrator.h"
 #include "render/pmc_hi.h"
 #include "render/pmc_ip_integrator.h"
 #include "render/pmc_pt_integrator.h"
@@ -78,7 +79,20 @@ const std::vector<MethodInfo>& methods() {
           {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
           {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
          [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""},
-        {"pmc-er", "population Monte Carlo energy redistribution", true, {}, nullptr, "issue 8"},
+        {"pmc-er", "population Monte Carlo energy redistribution: a population of light paths, adapted radii",
+         true,
+         {{"population", "auto", "light paths in the population; auto = the paper's 5000 per 640x480 pixels (at least 64)"},
+          {"mutations", "16", "mutations per member per iteration (paper 16-20)"},
+          {"radii", "5,10,50", "perturbation radii in pixels, 1 to 3, separated by , or / (strategy image: red, green, blue)"},
+          {"resample-rate", "0.4", "share of the population eliminated (by remaining energy) and regenerated per iteration"},
+          {"epsilon", "0.1", "floor of the radius weights alpha"},
+          {"caustic-probability", "0.9", "gamma_caustic: chance of a caustic perturbation where it applies"},
+          {"pass-spp", "4", "stratified pool paths per pixel per pass (sets the iterations); passes are averaged"},
+          {"iterations", "0", "iterations per pass (0: from --pass-spp)"},
+          {"prepass-spp", "4", "path-traced samples per pixel estimating the image energy"},
+          {"steps-per-dispatch", "4", "mutations per member per dispatch"},
+          {"birth", "equal", "equal: every member starts with the mean path energy Q and floor(U + E/Q) shares; path: the paper's E_remain = E", true}},
+         [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, ""},
         {"pmc-pt", "population Monte Carlo path tracing: a population of pixel positions mutated in disks",
          true,
          {{"population", "auto", "members; auto = the paper's 5000 per 640x480 pixels (at least 16)"},

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 
+#include "core/error.h"
 #include "image/tvi.h"
 
 namespace pmcr {
@@ -65,17 +67,11 @@ glm::dvec2 sampleDiskInImage(glm::dvec2 c, double r, double w, double h, Pcg32& 
     }
 }
 
-std::array<double, kMaxPopulationRadii> adaptAlpha(
-    const std::array<RunningStats, kMaxPopulationRadii>& tagged, int components, double epsilon,
+std::array<double, kMaxPopulationRadii> mixtureWeights(
+    const std::array<double, kMaxPopulationRadii>& prime, int components, double epsilon,
     const std::array<double, kMaxPopulationRadii>& current) {
-    // PMC-PT sec. 4.3.3: alpha'_k = 1 / sigma^2_k, or 0 if sigma_k = 0.
-    std::array<double, kMaxPopulationRadii> prime{};
     double sum = 0.0;
-    for (int k = 0; k < components; ++k) {
-        const double v = tagged[size_t(k)].variance();
-        prime[size_t(k)] = v > 0.0 ? 1.0 / v : 0.0;
-        sum += prime[size_t(k)];
-    }
+    for (int k = 0; k < components; ++k) sum += prime[size_t(k)];
     if (!(sum > 0.0) || !std::isfinite(sum)) return current;
     // alpha_k = eps + (1 - eps) alpha'_k / sum alpha', normalised to sum to one.
     const double norm = double(components) * epsilon + (1.0 - epsilon);
@@ -83,6 +79,37 @@ std::array<double, kMaxPopulationRadii> adaptAlpha(
     for (int k = 0; k < components; ++k)
         alpha[size_t(k)] = (epsilon + (1.0 - epsilon) * prime[size_t(k)] / sum) / norm;
     return alpha;
+}
+
+std::array<double, kMaxPopulationRadii> adaptAlpha(
+    const std::array<RunningStats, kMaxPopulationRadii>& tagged, int components, double epsilon,
+    const std::array<double, kMaxPopulationRadii>& current) {
+    // PMC-PT sec. 4.3.3: alpha'_k = 1 / sigma^2_k, or 0 if sigma_k = 0.
+    std::array<double, kMaxPopulationRadii> prime{};
+    for (int k = 0; k < components; ++k) {
+        const double v = tagged[size_t(k)].variance();
+        prime[size_t(k)] = v > 0.0 ? 1.0 / v : 0.0;
+    }
+    return mixtureWeights(prime, components, epsilon, current);
+}
+
+std::vector<double> parseRadii(const std::string& text) {
+    // Commas or slashes (`pmcr bench --methods` splits methods at commas).
+    std::string list = text;
+    std::replace(list.begin(), list.end(), '/', ',');
+    std::vector<double> radii;
+    std::stringstream ss(list);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        char* end = nullptr;
+        const double r = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !(r > 0.0) || !std::isfinite(r))
+            throw Error("--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50");
+        radii.push_back(r);
+    }
+    if (radii.empty() || radii.size() > size_t(kMaxPopulationRadii))
+        throw Error("--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50");
+    return radii;
 }
 
 std::vector<glm::dvec2> PositionPool::next(uint32_t count, Pcg32& rng) {

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -49,6 +50,17 @@ double diskRectangleArea(glm::dvec2 c, double r, double w, double h);
 // A uniform point of disk(c, r) ∩ [0,w) x [0,h), by rejection from the intersection's bounding
 // box (c must lie in the rectangle). Its density there is 1 / diskRectangleArea(c, r, w, h).
 glm::dvec2 sampleDiskInImage(glm::dvec2 c, double r, double w, double h, Pcg32& rng);
+
+// The defensive mixture weights of PMC-PT sec. 4.3.3 and PMC-ER sec. 4.5 from unnormalised
+// scores alpha'_k: alpha_k = eps + (1 - eps) alpha'_k / sum alpha'. The papers' weights sum to
+// 1 + (K - 1) eps; they are normalised here so they stay a mixture. With every alpha' zero
+// nothing was learned and `current` is kept.
+std::array<double, kMaxPopulationRadii> mixtureWeights(
+    const std::array<double, kMaxPopulationRadii>& prime, int components, double epsilon,
+    const std::array<double, kMaxPopulationRadii>& current);
+
+// `--radii`: 1 to 3 positive radii in pixels separated by , or / (PMC-PT, PMC-ER).
+std::vector<double> parseRadii(const std::string& text);
 
 // The alpha update of PMC-PT sec. 4.3.3: alpha'_k = 1 / sigma^2_k, 0 if sigma_k = 0 (also when a
 // component has fewer than two samples, so no spread was seen), alpha_k = eps + (1 - eps)

@@ -22,25 +22,6 @@ constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
 // Step t is weighted min(t, kRampSteps): the first steps' control variates come from few samples.
 constexpr uint64_t kRampSteps = 8;
 
-std::vector<double> parseRadii(const std::string& text) {
-    // Commas or slashes (`pmcr bench --methods` splits methods at commas).
-    std::string list = text;
-    std::replace(list.begin(), list.end(), '/', ',');
-    std::vector<double> radii;
-    std::stringstream ss(list);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        char* end = nullptr;
-        const double r = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !(r > 0.0) || !std::isfinite(r))
-            throw Error("--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50");
-        radii.push_back(r);
-    }
-    if (radii.empty() || radii.size() > size_t(kMaxPopulationRadii))
-        throw Error("--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50");
-    return radii;
-}
-
 // The pixel a raster position lands in, as camera_sample_kernel.glsl computes it.
 uint32_t pixelOf(glm::vec2 raster, int width, int height) {
     constexpr float oneMinusEpsilon = 0.99999994f;

@@ -53,12 +53,13 @@ void depositAt(inout ChainState st, uint pixel, vec3 throughput, float amount, i
     counters.deposited += amount;
 }
 
-// Advances the chain by one mutation. `mode`, `lensRadius`, the angle laws and the flags come
-// from the caller (ERPT push constants, or a PMC-ER member's chosen component).
+// Advances the chain by one mutation, depositing `amount` e_d (1 in ERPT; a PMC-ER member's
+// shares). `mode`, `lensRadius`, the angle laws and the flags come from the caller (ERPT push
+// constants, or a PMC-ER member's chosen component).
 void chainStep(uint chain, inout ChainState st, inout Rng rng, uint mode, float causticProbability,
                float lensRadius, AngleSampler lensAngle, AngleSampler causticAngle, uint flags,
-               uint consecutiveCap, inout StepCounters counters, out float acceptProbability,
-               out bool proposedCaustic) {
+               uint consecutiveCap, float amount, inout StepCounters counters,
+               out float acceptProbability, out bool proposedCaustic) {
     uint xBase = pathBase(chain, st.slot);
     uint yBase = pathBase(chain, st.slot ^ 1u);
     uint k = st.vertexCount;
@@ -86,8 +87,8 @@ void chainStep(uint chain, inout ChainState st, inout Rng rng, uint mode, float 
 
     uint xPixel = rasterPixel(st.raster);
     if ((flags & ERPT_FLAG_EXPECTED_VALUES) != 0u) {
-        if (valid) depositAt(st, rasterPixel(r.rasterY), r.throughputY, acceptProbability, rng, 0u, counters);
-        depositAt(st, xPixel, st.throughput, 1.0 - acceptProbability, rng, 0u, counters);
+        if (valid) depositAt(st, rasterPixel(r.rasterY), r.throughputY, amount * acceptProbability, rng, 0u, counters);
+        depositAt(st, xPixel, st.throughput, amount * (1.0 - acceptProbability), rng, 0u, counters);
     }
     if (valid && rngNext(rng) < acceptProbability) {
         st.slot ^= 1u;
@@ -100,7 +101,7 @@ void chainStep(uint chain, inout ChainState st, inout Rng rng, uint mode, float 
         uint pixel = rasterPixel(st.raster);
         st.consecutive = pixel == st.lastPixel ? st.consecutive + 1u : 1u;
         st.lastPixel = pixel;
-        depositAt(st, pixel, st.throughput, 1.0, rng, consecutiveCap, counters);
+        depositAt(st, pixel, st.throughput, amount, rng, consecutiveCap, counters);
     }
 }
 

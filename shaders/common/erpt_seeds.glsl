@@ -1,29 +1,11 @@
-// ERPT's seeds: the light paths of a path-traced sample and how many chains each starts.
-// A PathRecord (shared/path_types.h) of k eye vertices holds up to 2k light paths: for every
-// vertex x_j, the implicit path x1..x_j when x_j is an emitter hit, and the explicit path
-// x1..x_j y_j when light sampling connected x_j to y_j. Seed path s of a record is
-// (vertex j = s / 2, kind = s % 2: 0 implicit, 1 explicit).
+// ERPT's seeds (common/seed_paths.glsl) and how many chains each starts.
 //
 // Equal deposition (ERPT fig. 6): a path of energy e starts numChains = floor(U + e / (m e_d))
 // chains of m mutations, each depositing e_d per mutation; E[numChains m e_d] = e, unbiased.
 #ifndef PMCR_ERPT_SEEDS_GLSL
 #define PMCR_ERPT_SEEDS_GLSL
 
-#include "common/rng.glsl"
-
-layout(set = WORK_SET, binding = ERPT_BINDING_RECORDS, scalar) readonly buffer RecordBuffer {
-    PathRecord records[];
-};
-layout(set = WORK_SET, binding = ERPT_BINDING_RECORD_VERTICES, scalar) readonly buffer RecordVertexBuffer {
-    PathVertex recordVertices[];
-};
-
-vec3 seedContribution(PathRecord rec, uint s) {
-    PathVertex v = recordVertices[rec.firstVertex + s / 2u];
-    if ((s & 1u) == 0u)
-        return (v.flags & VERTEX_EMITTER) != 0u ? v.implicitContribution : vec3(0.0);
-    return (v.flags & VERTEX_HAS_LIGHT_SAMPLE) != 0u ? v.explicitContribution : vec3(0.0);
-}
+#include "common/seed_paths.glsl"
 
 // Seed paths with at most one scattering vertex between the eye and the light: the emitter seen
 // directly (s = 0) and direct lighting at the first hit (s = 1: light sampling; s = 2: the

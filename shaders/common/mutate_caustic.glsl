@@ -63,13 +63,16 @@ float causticGamma(uint base, uint h) {
     return gamma;
 }
 
-// Total length of the chain from the head to x1, and the eye distance (PMC-ER eq. 6).
+// Total length of the chain from the head to x1, and the eye distance (PMC-ER eq. 6). Capped at
+// pi / 2 (a large radius on a small image asks for more): beyond pi the angles would cover
+// directions twice and the density 1 / (2 pi thetaMax sin theta) the acceptance uses would not
+// hold. The cap is part of the state-dependent law, so T(y->x) / T(x->y) stays exact.
 float causticThetaMax(uint base, uint h, float thetaPerPixels) {
     float chain = 0.0;
     for (uint i = 0u; i < h; ++i)
         chain += length(pathPoint(base, i + 1u).position - pathPoint(base, i).position);
     float eye = length(pathPoint(base, 0u).position - sceneInfo.cameraPosition);
-    return chain > 0.0 ? thetaPerPixels * eye / chain : 0.0;
+    return chain > 0.0 ? min(thetaPerPixels * eye / chain, 0.5 * PI) : 0.0;
 }
 
 // `angle.thetaMax` is the log-uniform upper bound, or for the uniform law theta(d) (radians for

@@ -34,6 +34,7 @@ using uint64_t = std::uint64_t;
 #include "shared/path_types.h"
 #include "shared/chain_types.h"
 #include "shared/pmc_hi_types.h"
+#include "shared/pmc_er_types.h"
 
 #ifdef __cplusplus
 }  // namespace pmcr::gpu

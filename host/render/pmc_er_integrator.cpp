@@ -1,0 +1,389 @@
+#include "render/pmc_er_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/random.h"
+#include "render/energy_estimate.h"
+#include "render/path_population.h"
+#include "render/redistribution.h"
+#include "render/pixel_population.h"
+#include "render/splat_film.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+constexpr uint32_t kRecordChunk = 16384;  // new paths traced at once
+constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
+
+}  // namespace
+
+PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
+    PmcErOptions o;
+    const std::string population = s.optionString("population", "auto");
+    if (population != "auto") {
+        const int n = s.optionInt("population", 0);
+        if (n < 1 || n > 4000000) throw Error("--population: expected auto or 1..4000000");
+        o.population = uint32_t(n);
+    }
+    const int mutations = s.optionInt("mutations", int(o.mutations));
+    if (mutations < 1 || mutations > 4096) throw Error("--mutations: expected 1..4096");
+    o.mutations = uint32_t(mutations);
+    o.radii = parseRadii(s.optionString("radii", "5,10,50"));
+    o.resampleRate = s.optionDouble("resample-rate", o.resampleRate);
+    if (!(o.resampleRate > 0.0 && o.resampleRate <= 1.0)) throw Error("--resample-rate: expected (0, 1]");
+    o.epsilon = s.optionDouble("epsilon", o.epsilon);
+    if (!(o.epsilon >= 0.0 && o.epsilon <= 1.0)) throw Error("--epsilon: expected 0..1");
+    o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
+    if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
+        throw Error("--caustic-probability: expected a probability");
+    o.passSpp = s.optionDouble("pass-spp", o.passSpp);
+    if (!(o.passSpp > 0.0 && o.passSpp <= 4096.0)) throw Error("--pass-spp: expected a positive number up to 4096");
+    const int iterations = s.optionInt("iterations", 0);
+    if (iterations < 0 || iterations > 10000000) throw Error("--iterations: expected 0..10000000");
+    o.iterations = uint32_t(iterations);
+    const int prepass = s.optionInt("prepass-spp", int(o.prepassSpp));
+    if (prepass < 1 || prepass > 4096) throw Error("--prepass-spp: expected 1..4096");
+    o.prepassSpp = uint32_t(prepass);
+    const std::string birth = s.optionString("birth", "equal");
+    if (birth == "equal") o.birth = gpu::PMC_ER_BIRTH_EQUAL;
+    else if (birth == "path") o.birth = gpu::PMC_ER_BIRTH_PATH;
+    else throw Error("--birth: expected equal or path, got '" + birth + "'");
+    const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
+    if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
+    o.stepsPerDispatch = uint32_t(steps);
+    return o;
+}
+
+PmcEr::PmcEr(const RenderSettings& settings) : m_options(PmcErOptions::fromSettings(settings)) {}
+
+RenderOutput PmcEr::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const PmcErOptions& o = m_options;
+    const int width = session.width(), height = session.height();
+    const uint32_t pixels = uint32_t(width) * uint32_t(height);
+
+    // Population, iterations per pass and the pool a pass uses (Npool = N + (T - 1) R).
+    const uint32_t population = o.population > 0
+        ? o.population
+        : std::max<uint32_t>(64, uint32_t(std::lround(kPaperMembersPerPixel * pixels)));
+    const int components = int(o.radii.size());
+    PathPopulation paths(population, components, o.resampleRate, o.epsilon);
+    const uint32_t replacements = paths.replacementsPerIteration();
+    // A render of fewer paths per pixel than a pass is one shorter pass.
+    const double passSpp = settings.spp > 0 ? std::min(o.passSpp, double(settings.spp)) : o.passSpp;
+    const double passPaths = std::max(passSpp * double(pixels), double(population));
+    const uint32_t iterations = o.iterations > 0
+        ? o.iterations
+        : 1u + uint32_t(std::ceil((passPaths - double(population)) / double(replacements)));
+    const uint64_t poolPerPass = uint64_t(population) + uint64_t(iterations - 1) * replacements;
+    const uint32_t passes = settings.spp > 0
+        ? std::max<uint32_t>(1, uint32_t(std::lround(double(settings.spp) * pixels / double(poolPerPass))))
+        : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
+                                   : std::max<uint32_t>(1, uint32_t(std::lround(double(kDefaultSpp) * pixels / double(poolPerPass))));
+
+    const vk::Kernel& recordKernel = session.kernel("pt_record");
+    const vk::Kernel& seedKernel = session.kernel("pmc_er_seed");
+    const vk::Kernel& mutateKernel = session.kernel("pmc_er_mutate");
+    const vk::Kernel& finishKernel = session.kernel("pmc_er_finish");
+    session.kernel("pt");  // the pre-pass
+    session.startClock();
+
+    // e_d = E~ / (T N M) (PMC-ER eq. 4), E~ = P x mean pixel luminance (eq. 2-3).
+    const double meanLuminance = estimateMeanLuminance(session, o.prepassSpp);
+    const double imageEnergy = meanLuminance * double(pixels);
+    const double mutationsPerPass = double(iterations) * double(population) * double(o.mutations);
+    const float depositEnergy = float(imageEnergy / mutationsPerPass);
+    // A path of luminance L carries L P / Npool of pixel value, L P / (Npool e_d) deposits.
+    const float seedScale = float(double(pixels) / double(poolPerPass) / double(depositEnergy));
+
+    Film& film = session.film();
+    SplatFilm splat(context, width, height);
+    const uint32_t recordCapacity = std::min<uint32_t>(kRecordChunk, std::max(population, replacements));
+    vk::Buffer requests(context, recordCapacity * sizeof(gpu::SampleRequest), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                        "pmc-er pool requests");
+    vk::Buffer records(context, recordCapacity * sizeof(gpu::PathRecord), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "pmc-er path records");
+    vk::Buffer recordVertices(context, VkDeviceSize(recordCapacity) * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er path record vertices");
+    vk::Buffer seedSlots(context, recordCapacity * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                         "pmc-er seed slots");
+    vk::Buffer chains(context, VkDeviceSize(population) * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      "pmc-er paths");
+    vk::Buffer chainVertices(context, VkDeviceSize(population) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er path vertices");
+    vk::Buffer members(context, VkDeviceSize(population) * sizeof(gpu::PmcErMember), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "pmc-er members", vk::MemoryUsage::Readback);
+    vk::Buffer strategy(context, VkDeviceSize(pixels) * gpu::PMC_ER_MAX_RADII * sizeof(uint32_t),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er strategy");
+    strategy.fill(0);
+    vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          "pmc-er pixel stats");
+    pixelStats.fill(0);
+
+    vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er pool paths");
+    ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
+    ptWork.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    ptWork.bind(gpu::PT_BINDING_REQUESTS, requests);
+    ptWork.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+    ptWork.bind(gpu::PT_BINDING_PATH_RECORDS, records);
+    ptWork.bind(gpu::PT_BINDING_PATH_VERTICES, recordVertices);
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er population");
+    work.bind(gpu::ERPT_BINDING_RECORDS, records);
+    work.bind(gpu::ERPT_BINDING_RECORD_VERTICES, recordVertices);
+    work.bind(gpu::ERPT_BINDING_CHAINS, chains);
+    work.bind(gpu::ERPT_BINDING_CHAIN_VERTICES, chainVertices);
+    work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
+    work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
+    work.bind(gpu::PMC_ER_BINDING_MEMBERS, members);
+    work.bind(gpu::PMC_ER_BINDING_STRATEGY, strategy);
+    work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
+
+    gpu::PtPush ptPush{};
+    ptPush.source = gpu::PT_SOURCE_POINTS;
+    ptPush.flags = 0;  // records only: the paths reach the image through their members
+    ptPush.seed = settings.seed;
+    ptPush.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
+    ptPush.rrDepth = settings.rrDepth;
+
+    gpu::PmcErPush push{};
+    push.seed = settings.seed;
+    push.componentCount = uint32_t(components);
+    push.seedScale = seedScale;
+    for (int k = 0; k < components; ++k) push.radii[k] = float(o.radii[size_t(k)]);
+    push.causticProbability = o.causticProbability;
+    push.birth = o.birth;
+    // Q: the mean energy of a pool path (units of e_d), the mutations a member makes on average.
+    push.birthEnergy = float(mutationsPerPass / double(poolPerPass));
+    push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
+    push.lensThetaMax = 0.1f;
+
+    uint64_t poolUsed = 0, mutationsRun = 0, eliminated = 0;
+    double remainderEnergy = 0.0;  // deposited at the passes' ends, in units of e_d
+    double drainedEnergy = 0.0;    // held by the population when the passes' drains started
+    std::vector<double> alphaSum(size_t(components), 0.0);
+    uint64_t alphaMembers = 0;
+    DispatchSizer sizer(1024, population, session.targetDispatchSeconds());
+    auto submit = [&]() { batches.submit(); };
+    auto beginBatch = [&]() { batches.begin(); };
+
+    // Work goes into batches of a few dispatches (one submission each, on the render clock).
+    const uint32_t perBatch = uint32_t(std::clamp(
+        session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, 64.0));
+    uint32_t inBatch = 0;
+    uint64_t batchUnits = 0;
+    auto batchStart = std::chrono::steady_clock::now();
+    auto flush = [&]() {
+        if (inBatch == 0) return;
+        submit();
+        if (batchUnits > 0)
+            sizer.record(batchUnits, std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count());
+        inBatch = 0;
+        batchUnits = 0;
+    };
+    auto open = [&]() {
+        if (inBatch > 0) return;
+        beginBatch();
+        batchStart = std::chrono::steady_clock::now();
+    };
+
+    // Records the path tracing of the next pool positions and the members made of them in
+    // `slots` (chunks beyond the first need the record buffers again: submitted in between).
+    auto regenerate = [&](PositionPool& pool, Pcg32& rng, const std::vector<uint32_t>& slots,
+                          uint32_t pass, uint32_t iteration) {
+        for (size_t first = 0; first < slots.size(); first += recordCapacity) {
+            const uint32_t n = uint32_t(std::min<size_t>(recordCapacity, slots.size() - first));
+            const std::vector<glm::dvec2> positions = pool.next(n, rng);
+            std::vector<gpu::SampleRequest> req(n);
+            for (uint32_t i = 0; i < n; ++i) {
+                req[i].raster = glm::vec2(positions[i]);
+                // A sampler sequence of its own for every path of the render.
+                req[i].pixel = uint32_t(poolUsed + i);
+                req[i].sampleIndex = uint32_t((poolUsed + i) >> 32);
+            }
+            poolUsed += n;
+            flush();
+            requests.upload(req.data(), n * sizeof(gpu::SampleRequest));
+            seedSlots.upload(slots.data() + first, n * sizeof(uint32_t));
+            open();
+            batch.bind(ptWork);
+            ptPush.invocationCount = n;
+            ptPush.requestOffset = 0;
+            ptPush.recordOffset = 0;
+            batch.dispatch(recordKernel, ptPush, n);
+            batch.bind(work);
+            push.memberCount = n;
+            push.pass = pass;
+            push.iteration = iteration;
+            batch.dispatch(seedKernel, push, n);
+            inBatch += 2;
+        }
+    };
+    // Records `steps` mutations of every member, in dispatches of members the sizer keeps short.
+    auto mutate = [&](uint32_t steps) {
+        for (uint32_t done = 0; done < steps;) {
+            push.steps = std::min(o.stepsPerDispatch, steps - done);
+            for (uint32_t m = 0; m < population;) {
+                open();
+                batch.bind(work);
+                push.memberBase = m;
+                push.memberCount = std::min(sizer.units(), population - m);
+                batch.dispatch(mutateKernel, push, push.memberCount);
+                batchUnits += uint64_t(push.memberCount) * push.steps / o.stepsPerDispatch;
+                m += push.memberCount;
+                if (++inBatch >= perBatch) flush();
+            }
+            done += push.steps;
+        }
+    };
+    auto downloadMembers = [&]() {
+        flush();
+        auto state = members.download<gpu::PmcErMember>(population);
+        for (auto& m : state) {
+            mutationsRun += m.mutations;
+            m.mutations = 0;  // counted: start afresh
+        }
+        members.upload(state);
+        return state;
+    };
+
+    bool interrupted = false;
+    if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
+        for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
+            Pcg32 rng(settings.seed, 0x9e3779b97f4a7c15ULL + pass);
+            PositionPool pool(width, height);
+            std::vector<uint32_t> all(population);
+            for (uint32_t i = 0; i < population; ++i) all[i] = i;
+            regenerate(pool, rng, all, pass, 0);
+            for (uint32_t t = 0; t < iterations; ++t) {
+                mutate(o.mutations);
+                auto state = downloadMembers();
+                if (session.interrupted()) {
+                    interrupted = true;
+                    break;
+                }
+                if (t + 1 == iterations) break;
+                // Adapt, eliminate, regenerate (sec. 4.5).
+                paths.adapt(state);
+                const PathResampleResult r = paths.eliminate(state, rng);
+                eliminated += r.eliminated;
+                members.upload(state);
+                regenerate(pool, rng, r.regenerate, pass, t + 1);
+            }
+            if (interrupted) break;
+            // Drain: the members go on mutating, without regeneration, until they have deposited
+            // their energy (the population's energy grows over a pass: members without energy
+            // deposit nothing, so fewer than N M deposits balance each iteration's seeds) or the
+            // pass has made twice its budget of mutations; what is left is deposited at once.
+            uint64_t drainBudget = uint64_t(iterations) * population * o.mutations;
+            for (bool first = true;; first = false) {
+                auto state = downloadMembers();
+                double left = 0.0, most = 0.0;
+                uint64_t alive = 0;
+                for (const auto& m : state) {
+                    left += std::max(0.0f, m.remaining) * m.shares;
+                    most = std::max(most, double(m.remaining));
+                    alive += m.remaining > 0.0f ? 1 : 0;
+                }
+                if (left <= 0.0 || drainBudget == 0 || session.interrupted()) break;
+                const uint32_t steps = uint32_t(std::clamp(std::ceil(most), 1.0, double(4 * o.mutations)));
+                drainBudget -= std::min<uint64_t>(drainBudget, alive * steps);
+                if (first) drainedEnergy += left;
+                mutate(steps);
+            }
+            if (session.interrupted()) {
+                interrupted = true;
+                break;
+            }
+            auto state = downloadMembers();
+            for (const auto& m : state) {
+                remainderEnergy += std::max(0.0f, m.remaining) * m.shares;
+                for (int k = 0; k < components; ++k) alphaSum[size_t(k)] += m.alpha[k];
+                ++alphaMembers;
+            }
+            beginBatch();
+            batch.bind(work);
+            push.memberBase = 0;
+            push.memberCount = population;
+            batch.dispatch(finishKernel, push, population);
+            submit();
+            splat.completePass();
+            session.snapshotIfDue(uint64_t(splat.completedPasses()) * poolPerPass,
+                                  [&] { return splat.resolve(depositEnergy); });
+            session.progress().update(settings.spp > 0 ? double(pass + 1) / double(passes)
+                                                       : session.elapsedSeconds() / settings.timeLimit,
+                                      double(pass + 1), "passes");
+        }
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    out.image = splat.resolve(depositEnergy);
+    // Strategy image (PMC-ER fig. 6): the share of each radius among the mutations made at a
+    // pixel as red, green, blue, scaled by the pixel's mutation count over the 99th percentile.
+    auto counts = strategy.download<uint32_t>(size_t(pixels) * gpu::PMC_ER_MAX_RADII);
+    std::vector<double> totals(pixels);
+    for (uint32_t p = 0; p < pixels; ++p)
+        totals[p] = double(counts[3 * p]) + double(counts[3 * p + 1]) + double(counts[3 * p + 2]);
+    std::vector<double> sorted = totals;
+    const size_t q = std::min<size_t>(sorted.size() - 1, size_t(0.99 * double(sorted.size())));
+    std::nth_element(sorted.begin(), sorted.begin() + ptrdiff_t(q), sorted.end());
+    const double bright = std::max(1.0, sorted[q]);
+    Image strategyImage(width, height), mutationsImage(width, height);
+    for (uint32_t p = 0; p < pixels; ++p) {
+        const double scale = totals[p] > 0.0 ? std::min(1.0, totals[p] / bright) / totals[p] : 0.0;
+        for (int c = 0; c < 3; ++c) {
+            strategyImage.rgb[3 * p + size_t(c)] = float(double(counts[3 * p + size_t(c)]) * scale);
+            mutationsImage.rgb[3 * p + size_t(c)] = float(totals[p]);
+        }
+    }
+    out.diagnostics.push_back({"strategy", strategyImage});
+    out.diagnostics.push_back({"mutations", mutationsImage});
+    const int done = splat.completedPasses();
+    out.cameraSamples = uint64_t(done) * poolPerPass;
+    out.samplesPerPixel = double(out.cameraSamples) / double(pixels);
+
+    const Counters& c = session.counters();
+    const double seedEnergy = batches.seedEnergy(), depositedEnergy = batches.depositedEnergy();
+    nlohmann::json meanAlpha = nlohmann::json::array();
+    for (int k = 0; k < components; ++k)
+        meanAlpha.push_back(alphaMembers > 0 ? alphaSum[size_t(k)] / double(alphaMembers) : 0.0);
+    out.methodStats = {
+        {"passes", done},
+        {"population", population},
+        {"iterations_per_pass", iterations},
+        {"replacements_per_iteration", replacements},
+        {"pool_paths_per_pass", poolPerPass},
+        {"mutations_per_member", o.mutations},
+        {"birth", o.birth == gpu::PMC_ER_BIRTH_EQUAL ? "equal" : "path"},
+        {"birth_energy", push.birthEnergy},
+        {"mean_luminance_prepass", meanLuminance},
+        {"deposit_energy", depositEnergy},
+        {"mutations", c.values[gpu::COUNTER_LENS_PROPOSED] + c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
+        {"member_mutations", mutationsRun},  // as counted by the members (= mutations)
+        {"eliminated", eliminated},
+        {"mean_final_alpha", meanAlpha},
+        // In units of e_d, completed passes and any interrupted one.
+        {"seed_energy", seedEnergy},
+        {"deposited_energy", depositedEnergy},
+        {"remainder_energy", remainderEnergy},  // deposited by the members at the passes' ends
+        {"drain_energy", drainedEnergy},
+        // Zero in expectation only (path_population.h): the noise of survival and roulette.
+        {"deposited_vs_seed_energy", seedEnergy > 0.0 ? depositedEnergy / seedEnergy - 1.0 : 0.0},
+    };
+    out.methodStats.update(mutationStatistics(c));
+    return out;
+}
+
+}  // namespace pmcr

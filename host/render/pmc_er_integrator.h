@@ -1,0 +1,61 @@
+// PMC energy redistribution (Lai, Fan, Chenney and Dyer, EGSR 2007; "PMC-ER equal deposition",
+// its fig. 2). A population of `--population` light paths, each made by path-tracing one
+// position of a stratified pool over the image (pt_record) and picking one of the sample's light
+// paths by luminance (pmc_er_seed). Every iteration each living member makes `--mutations`
+// mutations of its adapted kernel (pmc_er_mutate: radius d_k by the member's alpha, then caustic
+// with gamma 0.9 where it applies, else lens; eq. 5, 9) and deposits e_d at its current pixel
+// after each; between iterations the host adapts alpha from the acceptance probabilities,
+// eliminates `--resample-rate` of the members with survival by remaining energy and refills
+// their slots from the pool (render/path_population.h). When the pass ends every member
+// deposits what it has left (pmc_er_finish).
+//
+// Energy (sec. 4.3): a pass traces Npool = N + (T - 1) R pool positions, T iterations, R
+// replacements each, so a path of luminance L carries E = L P / Npool of pixel value (P pixels:
+// each position is uniform over the image); e_d = E~ / (T N M) with E~ = P times the mean pixel
+// luminance of a `--prepass-spp` path-traced pre-pass (eq. 4). Bookkeeping keeps every member's
+// expected deposit equal to its energy (render/path_population.h), so the image is unbiased in
+// the sense of ERPT: its expected total energy is the seeds', and deposits follow the current
+// paths of chains whose every kernel leaves the target function invariant. Deviations from the
+// paper are listed in README.md ("PMC-ER").
+//
+// Passes: `--pass-spp` pool positions per pixel per pass (T follows, or `--iterations`); each
+// pass is an independent unbiased image and the passes are averaged, so `--spp N` is N
+// path-traced paths per pixel in all (the paper's "initial PT paths") and `--time` renders whole
+// passes until the time is up.
+#pragma once
+
+#include <vector>
+
+#include "render/integrator.h"
+#include "shared/host_device.h"
+
+namespace pmcr {
+
+struct PmcErOptions {
+    uint32_t population = 0;         // 0: auto (the paper's 5000 per 640x480 pixels, at least 64)
+    uint32_t mutations = 16;         // per member per iteration (paper: 16-20)
+    std::vector<double> radii = {5.0, 10.0, 50.0};
+    double resampleRate = 0.4;
+    double epsilon = 0.1;
+    float causticProbability = 0.9f; // gamma_caustic
+    double passSpp = 4.0;            // pool positions per pixel per pass
+    uint32_t iterations = 0;         // per pass; 0: from passSpp
+    uint32_t prepassSpp = 4;
+    uint32_t stepsPerDispatch = 4;
+    uint32_t birth = 0;              // gpu::PMC_ER_BIRTH_*
+
+    static PmcErOptions fromSettings(const RenderSettings& settings);
+};
+
+class PmcEr : public Integrator {
+public:
+    explicit PmcEr(const RenderSettings& settings);
+    RenderOutput render(RenderSession& session) override;
+
+    static constexpr uint32_t kDefaultSpp = 16;
+
+private:
+    PmcErOptions m_options;
+};
+
+}  // namespace pmcr

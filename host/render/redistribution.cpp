@@ -1,0 +1,42 @@
+#include "render/redistribution.h"
+
+#include "vk/context.h"
+
+namespace pmcr {
+
+RedistributionBatch::RedistributionBatch(RenderSession& session)
+    : m_session(session),
+      m_batch(session.layout(), &session.timer()),
+      m_energy(session.context(), 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "redistribution energy",
+               vk::MemoryUsage::Readback) {}
+
+void RedistributionBatch::begin() {
+    m_batch.fill(m_session.film().counters(), 0);
+    m_batch.fill(m_energy, 0);
+    m_batch.bind(m_session.scene().descriptorSet());
+}
+
+void RedistributionBatch::submit() {
+    m_batch.submitAndWait();
+    m_session.film().addCounters(m_session.counters());
+    float e[3];
+    m_energy.download(e, sizeof(e));
+    m_seedEnergy += e[0];
+    m_depositedEnergy += e[1];
+    m_directEnergy += e[2];
+}
+
+nlohmann::json mutationStatistics(const Counters& c) {
+    auto ratio = [](uint64_t a, uint64_t b) { return b > 0 ? double(a) / double(b) : 0.0; };
+    return {
+        {"lens_proposed", c.values[gpu::COUNTER_LENS_PROPOSED]},
+        {"lens_acceptance", ratio(c.values[gpu::COUNTER_LENS_ACCEPTED], c.values[gpu::COUNTER_LENS_PROPOSED])},
+        {"caustic_proposed", c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
+        {"caustic_acceptance", ratio(c.values[gpu::COUNTER_CAUSTIC_ACCEPTED], c.values[gpu::COUNTER_CAUSTIC_PROPOSED])},
+        {"invalid_proposals", c.values[gpu::COUNTER_INVALID_PROPOSALS]},
+        {"deposits", c.values[gpu::COUNTER_DEPOSITS]},
+        {"deposits_dropped", c.values[gpu::COUNTER_DEPOSITS_DROPPED]},
+    };
+}
+
+}  // namespace pmcr
