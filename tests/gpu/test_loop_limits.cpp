@@ -9,9 +9,9 @@
 //   complete 60000 iterations.
 //
 // What pmcr does about it: every kernel keeps each invocation's total loop iterations per
-// dispatch far below 65535. BVH traversal takes tens to a few hundred iterations per ray, a
-// camera sample at most 2 * (max depth + 1) rays, and Markov-chain kernels advance a bounded
-// number of mutations per dispatch. A traversal cut short would be silent (the kernels do not
+// dispatch far below 65535. BVH traversal takes tens to a few hundred iterations per ray (one per
+// interior node or triangle tested), a camera sample at most 2 * (max depth + 1) rays, and
+// Markov-chain kernels advance a bounded number of mutations per dispatch. A traversal cut short would be silent (the kernels do not
 // count truncated traversals); tests/gpu/test_bvh_traversal.cpp checks that GPU traversals of
 // the default scene and of the 200k-triangle dragon give the host's hits. Real GPUs have no
 // such limit.
