@@ -243,6 +243,16 @@ Sampler pmcHiStream(Sampler smp, uint t, uint k, uint j) {
     return s;
 }
 
+// Unnormalised weight of slot k in the first iteration without feedback. The paper's sec. 5.2
+// makes them equal; with one component per light, pmcr gives the BSDF component its equal share
+// 1 / (1 + lights) and splits the lights' share in proportion to their power, as light
+// selection does in MIS direct lighting (lights.glsl): a dim light gets fewer samples than a
+// bright one until the adaptation says otherwise. Equal for lights of equal power.
+float pmcHiInitialWeight(PmcHiParams p, uint k) {
+    if (k == PMC_HI_BSDF || p.sharedLight != 0u) return 1.0;
+    return float(p.lightComponents) * lightGroups[k - PMC_HI_LIGHT].power / sceneInfo.totalEmitterPower;
+}
+
 // One PMC-HI estimate of the light reflected at `sh` (the integral of eq. 4, direct lighting
 // only; emission at sh not included). The first iteration's weights are `start` when `hasStart`
 // (the PMC-IP feedback of sec. 6.1: weights adapted at this pixel in an earlier image-plane
@@ -262,7 +272,7 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
     for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) {
         kern.alpha[k] = 0.0;
         if (!adapted || k >= m || k == PMC_HI_CONE) continue;
-        kern.alpha[k] = hasStart ? max(start[k], p.alphaFloor) : 1.0;
+        kern.alpha[k] = hasStart ? max(start[k], p.alphaFloor) : pmcHiInitialWeight(p, k);
         startSum += kern.alpha[k];
     }
     for (uint k = 0u; k < m; ++k) kern.alpha[k] /= max(startSum, 1e-30);
