@@ -49,6 +49,10 @@ ErptOptions ErptOptions::fromSettings(const RenderSettings& s) {
     if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
         throw Error("--caustic-probability: expected a probability");
     o.expectedValues = s.optionBool("expected-values", false);
+    const std::string redistribute = s.optionString("redistribute", "indirect");
+    if (redistribute != "all" && redistribute != "indirect")
+        throw Error("--redistribute: expected all or indirect, got '" + redistribute + "'");
+    o.depositDirect = redistribute == "indirect";
     o.filterProposalsRadius = s.optionInt("filter-proposals", 0);
     if (o.filterProposalsRadius < 0 || o.filterProposalsRadius > 32)
         throw Error("--filter-proposals: expected a box radius 0..32 (0 = off)");
@@ -155,11 +159,12 @@ RenderOutput Erpt::render(RenderSession& session) {
     push.causticThetaMin = o.causticThetaMin;
     push.causticThetaMax = o.causticThetaMax;
     push.causticProbability = o.causticProbability;
-    push.flags = o.expectedValues ? gpu::ERPT_FLAG_EXPECTED_VALUES : 0u;
+    push.flags = (o.expectedValues ? gpu::ERPT_FLAG_EXPECTED_VALUES : 0u) |
+                 (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u);
     push.consecutiveCap = o.filterConsecutive;
 
     vk::CommandBatch batch(session.layout(), &session.timer());
-    double seedEnergy = 0.0, depositedEnergy = 0.0;
+    double seedEnergy = 0.0, depositedEnergy = 0.0, directEnergy = 0.0;
     uint64_t chainsStarted = 0;
     uint64_t chainSteps = 0;  // mutations run, each depositing e_d in total (equal deposition)
     DispatchSizer sizer(4096, kChainCapacity, session.targetDispatchSeconds());
@@ -167,10 +172,11 @@ RenderOutput Erpt::render(RenderSession& session) {
     auto submit = [&]() {
         batch.submitAndWait();
         film.addCounters(session.counters());
-        float e[2];
+        float e[3];
         energy.download(e, sizeof(e));
         seedEnergy += e[0];
         depositedEnergy += e[1];
+        directEnergy += e[2];
     };
     auto beginBatch = [&]() {
         batch.fill(film.counters(), 0);
@@ -297,6 +303,9 @@ RenderOutput Erpt::render(RenderSession& session) {
         // Deposited relative to seed energy, minus one: zero in expectation only (ERPT sec. 3.2),
         // it is the noise of the floor(U + e / (m e_d)) chain counts.
         {"deposited_vs_seed_energy", seedEnergy > 0.0 ? depositedEnergy / seedEnergy - 1.0 : 0.0},
+        // The share of the image's energy deposited straight from direct seed paths
+        // (--redistribute indirect), not by chains.
+        {"direct_energy_share", directEnergy + seedEnergy > 0.0 ? directEnergy / (directEnergy + seedEnergy) : 0.0},
         {"biased_filters", o.filterProposalsRadius > 0 || o.filterConsecutive > 0},
     };
     return out;

@@ -80,6 +80,8 @@ PMCR_CONST uint MUTATION_CAUSTIC = 3;  // caustic only (paths it does not apply 
 
 PMCR_CONST uint ERPT_FLAG_EXPECTED_VALUES = 1u;  // deposit a*e_d at y and (1-a)*e_d at x
 PMCR_CONST uint ERPT_FLAG_CAUSTIC_THETA_D = 2u;  // caustic angle from the lens radius (PMC-ER eq. 6)
+PMCR_CONST uint ERPT_FLAG_DEPOSIT_DIRECT = 4u;   // seeds with one scattering vertex or none are
+                                                 // deposited at their pixel, not redistributed
 
 struct ErptPush {
     uint recordCount;        // seed kernels: records in this pass

@@ -47,6 +47,9 @@ TEST_F(ErptTest, EqualDepositionConservesEnergyInExpectation) {
         const double seed = m["seed_energy"].get<double>();
         const double deposited = m["deposited_energy"].get<double>();
         EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
+        // By default direct light is deposited at its pixel, not by chains (--redistribute).
+        EXPECT_GT(m["direct_energy_share"].get<double>(), 0.05);
+        EXPECT_LT(m["direct_energy_share"].get<double>(), 0.95);
         EXPECT_DOUBLE_EQ(deposited, 20.0 * m["chains_started"].get<double>());
         // Rejected and invalid proposals lose nothing: every step deposits e_d.
         EXPECT_EQ(m["chain_steps"].get<double>(), 20.0 * m["chains_started"].get<double>());
@@ -96,8 +99,10 @@ TEST_F(ErptTest, UnbiasedAgainstPathTracing) {
     expectUnbiased(s, 40, 16);
 }
 
+// Also the paper's redistribution of every seed path, direct light included.
 TEST_F(ErptTest, UnbiasedWithMixedMutationsAndExpectedValues) {
     RenderSettings s = erptSettings(20, 16);
+    s.options["redistribute"] = "all";
     s.options["chain-length"] = "20";
     s.options["mutations-per-pixel"] = "4";
     s.options["mutation"] = "mix";
