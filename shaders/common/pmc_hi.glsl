@@ -173,33 +173,45 @@ float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pd
     return k == PMC_HI_BSDF ? pdfBsdf : k == PMC_HI_CONE ? pdfCone : k == lightSlot ? pdfLight : 0.0;
 }
 
-// Draws one direction from component k of `kern`, traces it and scores it: w = f / K (eq. 8,
-// Rao-Blackwellised) or f / h_k (the per-component variant of sec. 7), f = Le f_r |cos|.
-// Returns false for a sample that produced no direction (w = 0).
-bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, inout Sampler smp,
+// Draws one direction from component k of `kern` with (u1, u2), traces it and scores it:
+// w = f / K (eq. 8, Rao-Blackwellised) or f / h_k (the per-component variant of sec. 7),
+// f = Le f_r |cos|. Returns false for a sample that produced no direction (w = 0).
+//
+// Every sample goes through one traversal call, whatever its component: a light-sampled
+// direction as a shadow ray to the sampled point (any hit), the others as a closest hit. With
+// one call site the invocations of a SIMD group that draw from different components still
+// traverse together (two call sites would run both traversal loops, each half masked).
+bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float u1, vec2 u2,
                  inout uint rays, out vec3 w, out vec3 wi) {
     w = vec3(0.0);
     const bool rb = (p.flags & PMC_HI_FLAG_RAO_BLACKWELL) != 0u;
-    float u1 = samplerGet1D(smp);
-    vec2 u2 = samplerGet2D(smp);
     PmcHiDraw d;
     bool drawn = pmcHiDrawDirection(sh, p, k, kern, u1, u2, d);
     wi = d.wi;
-    if (!drawn) return false;
-    if (maxComponent(d.fr) <= 0.0) return true;
+    bool trace = drawn && maxComponent(d.fr) > 0.0;
 
-    // One ray: what the direction sees. For a light-sampled direction, the sampled point when
-    // nothing is in between (a shadow ray, cheaper than a closest hit); otherwise it scores 0.
-    SurfacePoint l;
+    // The ray: to the sampled light point (visible when nothing is in between; both ends offset
+    // off their surfaces, as visible() does), or what the direction sees first.
+    vec3 origin = spawnOrigin(sh, d.wi);
+    vec3 dir = d.wi;
+    float tMax = FLOAT_MAX;
     if (d.fromLight) {
-        if (!visible(sh, d.lightPoint, rays)) return true;
-        l = d.lightPoint;
-    } else {
-        Hit hit;
-        rays += 1u;
-        if (!traceClosest(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX, hit)) return true;
-        l = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+        vec3 target = offsetRayOrigin(d.lightPoint.position, dot(d.wi, d.lightPoint.normal) < 0.0
+                                                                 ? d.lightPoint.normal
+                                                                 : -d.lightPoint.normal);
+        vec3 toTarget = target - origin;
+        float dist = length(toTarget);
+        dir = toTarget / dist;
+        tMax = dist * (1.0 - 1e-4);
     }
+    Hit hit = Hit(tMax, BVH_NO_HIT, 0.0, 0.0);
+    bool found = false;
+    if (trace) {
+        rays += 1u;
+        found = bvhTraverse(origin, dir, d.fromLight, hit);
+    }
+    if (!trace || (d.fromLight ? found : !found)) return drawn;
+    SurfacePoint l = d.fromLight ? d.lightPoint : surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
     vec3 Le = emittedRadiance(l, -d.wi);
     if (maxComponent(Le) <= 0.0) return true;
     vec3 f = d.fr * Le;
@@ -213,6 +225,32 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, inout
                                  rb ? PMC_HI_MAX_COMPONENTS : k);
     if (density > 0.0) w = f / density;
     return true;
+}
+
+// The sampler of sample j of component k in iteration t of an estimate. Each (t, k) has its own
+// pair of dimensions and draws points j = 0, 1, ... of an aligned block of
+// PMC_HI_STREAM_BLOCK indices inside the camera sample's block: the samples one component
+// draws in one iteration are the first points of a (0, 2)-sequence block, a net, so they are
+// stratified among themselves (sampler.glsl: the index scramble keeps aligned blocks), and
+// sample (t, k, j) of successive camera samples of a pixel continues the same sequence. A
+// dimension then always serves the same component, whatever the deterministic mixture counts.
+const uint PMC_HI_STREAM_DIMENSION = 0x40000000u;  // far from the camera sample's dimensions
+
+Sampler pmcHiStream(Sampler smp, uint t, uint k, uint j) {
+    Sampler s = smp;
+    s.index = smp.index * PMC_HI_STREAM_BLOCK + j;
+    s.dimension = PMC_HI_STREAM_DIMENSION + 2u * (t * PMC_HI_MAX_COMPONENTS + k) + 0x1000u * smp.dimension;
+    return s;
+}
+
+// Unnormalised weight of slot k in the first iteration without feedback. The paper's sec. 5.2
+// makes them equal; with one component per light, pmcr gives the BSDF component its equal share
+// 1 / (1 + lights) and splits the lights' share in proportion to their power, as light
+// selection does in MIS direct lighting (lights.glsl): a dim light gets fewer samples than a
+// bright one until the adaptation says otherwise. Equal for lights of equal power.
+float pmcHiInitialWeight(PmcHiParams p, uint k) {
+    if (k == PMC_HI_BSDF || p.sharedLight != 0u) return 1.0;
+    return float(p.lightComponents) * lightGroups[k - PMC_HI_LIGHT].power / sceneInfo.totalEmitterPower;
 }
 
 // One PMC-HI estimate of the light reflected at `sh` (the integral of eq. 4, direct lighting
@@ -234,7 +272,7 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
     for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) {
         kern.alpha[k] = 0.0;
         if (!adapted || k >= m || k == PMC_HI_CONE) continue;
-        kern.alpha[k] = hasStart ? max(start[k], p.alphaFloor) : 1.0;
+        kern.alpha[k] = hasStart ? max(start[k], p.alphaFloor) : pmcHiInitialWeight(p, k);
         startSum += kern.alpha[k];
     }
     for (uint k = 0u; k < m; ++k) kern.alpha[k] /= max(startSum, 1e-30);
@@ -251,17 +289,31 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
         for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) wSum[k] = 0.0;
         float wTotal = 0.0;
         vec3 wDirection = vec3(0.0);
-        for (uint k = 0u; k < m; ++k) {
-            for (uint j = 0u; j < counts[k]; ++j) {
-                vec3 w, wi;
-                if (!pmcHiSample(sh, p, k, kern, smp, rays, w, wi)) continue;
-                float wl = max(luminance(w), 0.0);
-                if (!isFinite(wl)) continue;
-                sum += w;
-                wSum[k] += wl;
-                wTotal += wl;
-                wDirection += wl * wi;
+        // One flat loop of N samples, component k for counts[k] of them in turn: the same trip
+        // count in every invocation (nested loops over k and counts[k] would run, in a SIMD
+        // group, the sum over k of the largest counts[k], far more than N once the counts
+        // differ between invocations).
+        uint k = 0u;
+        uint j = 0u;  // index of the sample within component k
+        for (uint i = 0u; i < N; ++i) {
+            while (j >= counts[k] && k + 1u < m) {
+                k += 1u;
+                j = 0u;
             }
+            // Component k's samples of this iteration are consecutive points of one stratified
+            // stream (pmcHiStream), whatever the other components' counts.
+            Sampler stream = pmcHiStream(smp, t, k, j);
+            j += 1u;
+            float u1 = samplerGet1D(stream);
+            vec2 u2 = samplerGet2D(stream);
+            vec3 w, wi;
+            if (!pmcHiSample(sh, p, k, kern, u1, u2, rays, w, wi)) continue;
+            float wl = max(luminance(w), 0.0);
+            if (!isFinite(wl)) continue;
+            sum += w;
+            wSum[k] += wl;
+            wTotal += wl;
+            wDirection += wl * wi;
         }
         // Eq. 1: this iteration's estimate.
         total += sum / float(N);

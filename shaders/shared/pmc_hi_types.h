@@ -10,6 +10,12 @@ PMCR_CONST uint PMC_HI_MAX_LIGHTS = 8;                            // --max-light
 PMCR_CONST uint PMC_HI_MAX_COMPONENTS = PMC_HI_LIGHT + PMC_HI_MAX_LIGHTS;
 PMCR_CONST uint PMC_HI_MAX_POPULATION_PER_COMPONENT = 8;
 PMCR_CONST uint PMC_HI_MAX_ITERATIONS = 16;
+// Indices per camera sample in the per-component sample streams (pmc_hi.glsl pmcHiStream): a
+// power of two at least the largest population.
+PMCR_CONST uint PMC_HI_STREAM_BLOCK = 128;
+#ifdef __cplusplus
+static_assert(PMC_HI_MAX_POPULATION_PER_COMPONENT * PMC_HI_MAX_COMPONENTS <= PMC_HI_STREAM_BLOCK);
+#endif
 // Smallest cone half-angle (radians): the cone of a population whose weight sits on one
 // direction keeps some width.
 PMCR_CONST float PMC_HI_CONE_MIN_ANGLE = 0.02f;

@@ -110,6 +110,15 @@ TEST_F(PmcHiTest, PerComponentVariantIsBiased) {
     EXPECT_LT(result.passFraction, 0.9975) << result.describe();
 }
 
+// plant-shadows' two lights differ in power (radiance 120 and 25, equal areas): the first
+// iteration's light weights are then unequal (in proportion to power), and the estimate must
+// stay unbiased with them, with the per-component sample streams and three iterations.
+TEST_F(PmcHiTest, UnbiasedWithLightsOfUnequalPower) {
+    RenderSettings s = pmcHiSettings(24, 4);
+    s.options["iterations"] = "3";
+    expectUnbiased("scenes/plant-shadows.glb", s, 32);
+}
+
 TEST_F(PmcHiTest, UnbiasedWithDeltaBsdfs) {
     expectUnbiased("scenes/cornell-glass.glb", pmcHiSettings(24, 4), 32);
 }
