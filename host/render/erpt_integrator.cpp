@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "render/energy_estimate.h"
+#include "render/path_records.h"
 #include "render/redistribution.h"
 #include "render/splat_film.h"
 #include "vk/command_batch.h"
@@ -110,9 +111,7 @@ RenderOutput Erpt::render(RenderSession& session) {
     Film& film = session.film();
     SplatFilm splat(context, session.width(), session.height());
     const uint32_t recordChunk = std::min(kRecordChunk, pixels);
-    vk::Buffer records(context, recordChunk * sizeof(gpu::PathRecord), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "path records");
-    vk::Buffer recordVertices(context, VkDeviceSize(recordChunk) * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "path record vertices");
+    PathRecords records(context, recordChunk, "erpt seed");
     vk::Buffer counts(context, recordChunk * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       "chain counts", vk::MemoryUsage::Readback);
     vk::Buffer offsets(context, (recordChunk + 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chain offsets");
@@ -123,15 +122,9 @@ RenderOutput Erpt::render(RenderSession& session) {
     pixelStats.fill(0);
 
     vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "erpt seed pass");
-    ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
-    ptWork.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    ptWork.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
-    ptWork.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
-    ptWork.bind(gpu::PT_BINDING_PATH_RECORDS, records);
-    ptWork.bind(gpu::PT_BINDING_PATH_VERTICES, recordVertices);
+    records.bindTracer(ptWork, session, session.placeholder());
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "erpt chains");
-    work.bind(gpu::ERPT_BINDING_RECORDS, records);
-    work.bind(gpu::ERPT_BINDING_RECORD_VERTICES, recordVertices);
+    records.bindSeeds(work);
     work.bind(gpu::ERPT_BINDING_CHAIN_COUNTS, counts);
     work.bind(gpu::ERPT_BINDING_CHAIN_OFFSETS, offsets);
     work.bind(gpu::ERPT_BINDING_CHAINS, chains);

@@ -9,6 +9,7 @@
 #include "core/random.h"
 #include "render/energy_estimate.h"
 #include "render/path_population.h"
+#include "render/path_records.h"
 #include "render/redistribution.h"
 #include "render/pixel_population.h"
 #include "render/splat_film.h"
@@ -109,10 +110,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     const uint32_t recordCapacity = std::min<uint32_t>(kRecordChunk, std::max(population, replacements));
     vk::Buffer requests(context, recordCapacity * sizeof(gpu::SampleRequest), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                         "pmc-er pool requests");
-    vk::Buffer records(context, recordCapacity * sizeof(gpu::PathRecord), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                       "pmc-er path records");
-    vk::Buffer recordVertices(context, VkDeviceSize(recordCapacity) * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er path record vertices");
+    PathRecords records(context, recordCapacity, "pmc-er path");
     vk::Buffer seedSlots(context, recordCapacity * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                          "pmc-er seed slots");
     vk::Buffer chains(context, VkDeviceSize(population) * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -129,15 +127,9 @@ RenderOutput PmcEr::render(RenderSession& session) {
     pixelStats.fill(0);
 
     vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er pool paths");
-    ptWork.bind(gpu::PT_BINDING_FILM, film.pixels());
-    ptWork.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    ptWork.bind(gpu::PT_BINDING_REQUESTS, requests);
-    ptWork.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
-    ptWork.bind(gpu::PT_BINDING_PATH_RECORDS, records);
-    ptWork.bind(gpu::PT_BINDING_PATH_VERTICES, recordVertices);
+    records.bindTracer(ptWork, session, requests);
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er population");
-    work.bind(gpu::ERPT_BINDING_RECORDS, records);
-    work.bind(gpu::ERPT_BINDING_RECORD_VERTICES, recordVertices);
+    records.bindSeeds(work);
     work.bind(gpu::ERPT_BINDING_CHAINS, chains);
     work.bind(gpu::ERPT_BINDING_CHAIN_VERTICES, chainVertices);
     work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());

@@ -23,6 +23,7 @@
 
 #include "distribution_test.h"
 #include "gpu_test.h"
+#include "render/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "statistics.h"
@@ -84,18 +85,9 @@ protected:
     std::vector<ChainPath> recordPaths(uint32_t passes) {
         const uint32_t pixels = kSize * kSize;
         vk::Kernel ptRecord(m_session->layout(), "pt_record");
-        Film& film = m_session->film();
-        vk::Buffer records(context(), pixels * sizeof(gpu::PathRecord),
-                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "path records");
-        vk::Buffer vertices(context(), pixels * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "path vertices");
+        PathRecords recorded(context(), pixels, "test path");
         vk::DescriptorSet work(m_session->layout(), vk::DescriptorSet::Kind::Work, "record work");
-        work.bind(gpu::PT_BINDING_FILM, film.pixels());
-        work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-        work.bind(gpu::PT_BINDING_REQUESTS, m_session->placeholder());
-        work.bind(gpu::PT_BINDING_RESULTS, m_session->placeholder());
-        work.bind(gpu::PT_BINDING_PATH_RECORDS, records);
-        work.bind(gpu::PT_BINDING_PATH_VERTICES, vertices);
+        recorded.bindTracer(work, *m_session, m_session->placeholder());
         gpu::PtPush push{};
         push.source = gpu::PT_SOURCE_TILE;
         push.flags = gpu::PT_FLAG_DEPOSIT;
@@ -112,8 +104,8 @@ protected:
             batch.bind(work);
             batch.dispatch(ptRecord, push, pixels);
             batch.submitAndWait();
-            const auto recs = records.download<gpu::PathRecord>(pixels);
-            const auto verts = vertices.download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
+            const auto recs = recorded.records().download<gpu::PathRecord>(pixels);
+            const auto verts = recorded.vertices().download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
             for (const gpu::PathRecord& r : recs) {
                 for (uint32_t j = 0; j < r.vertexCount; ++j) {
                     for (int kind = 0; kind < 2; ++kind) {

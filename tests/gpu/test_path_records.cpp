@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "gpu_test.h"
+#include "render/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "vk/command_batch.h"
@@ -43,17 +44,9 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
     vk::Kernel pt(session.layout(), "pt");
     vk::Kernel ptRecord(session.layout(), "pt_record");
     Film& film = session.film();
-    vk::Buffer records(context(), pixels * sizeof(gpu::PathRecord), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                       "path records");
-    vk::Buffer vertices(context(), pixels * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
-                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "path vertices");
+    pmcr::PathRecords paths(context(), pixels, "test path");
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "record work");
-    work.bind(gpu::PT_BINDING_FILM, film.pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
-    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
-    work.bind(gpu::PT_BINDING_PATH_RECORDS, records);
-    work.bind(gpu::PT_BINDING_PATH_VERTICES, vertices);
+    paths.bindTracer(work, session, session.placeholder());
 
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_TILE;
@@ -80,8 +73,8 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
         ASSERT_EQ(plain[i].sampleCount, recorded[i].sampleCount);
     }
 
-    auto recs = records.download<gpu::PathRecord>(pixels);
-    auto verts = vertices.download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
+    auto recs = paths.records().download<gpu::PathRecord>(pixels);
+    auto verts = paths.vertices().download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
     int withLight = 0, withEmitterHit = 0, specular = 0;
     for (uint32_t i = 0; i < pixels; ++i) {
         const gpu::PathRecord& r = recs[i];
