@@ -190,25 +190,15 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
     wi = d.wi;
     bool trace = drawn && maxComponent(d.fr) > 0.0;
 
-    // The ray: to the sampled light point (visible when nothing is in between; both ends offset
-    // off their surfaces, as visible() does), or what the direction sees first.
-    vec3 origin = spawnOrigin(sh, d.wi);
-    vec3 dir = d.wi;
-    float tMax = FLOAT_MAX;
-    if (d.fromLight) {
-        vec3 target = offsetRayOrigin(d.lightPoint.position, dot(d.wi, d.lightPoint.normal) < 0.0
-                                                                 ? d.lightPoint.normal
-                                                                 : -d.lightPoint.normal);
-        vec3 toTarget = target - origin;
-        float dist = length(toTarget);
-        dir = toTarget / dist;
-        tMax = dist * (1.0 - 1e-4);
-    }
-    Hit hit = Hit(tMax, BVH_NO_HIT, 0.0, 0.0);
+    // The ray: to the sampled light point (visible when nothing is in between), or what the
+    // direction sees first.
+    ShadowRay ray = ShadowRay(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX);
+    if (d.fromLight) ray = shadowRay(sh, d.lightPoint);
+    Hit hit = Hit(ray.tMax, BVH_NO_HIT, 0.0, 0.0);
     bool found = false;
     if (trace) {
         rays += 1u;
-        found = bvhTraverse(origin, dir, d.fromLight, hit);
+        found = bvhTraverse(ray.origin, ray.dir, d.fromLight, hit);
     }
     if (!trace || (d.fromLight ? found : !found)) return drawn;
     SurfacePoint l = d.fromLight ? d.lightPoint : surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));

@@ -53,16 +53,32 @@ vec3 spawnOrigin(ShadingPoint sh, vec3 w) {
     return offsetRayOrigin(sh.surface.position, dot(w, sh.ng) > 0.0 ? sh.ng : -sh.ng);
 }
 
-// Unoccluded between a shading point and a point on a light (both ends offset off their surfaces).
-bool visible(ShadingPoint sh, SurfacePoint light, inout uint rays) {
+// The shadow ray from a shading point to a point on a light, both ends offset off their
+// surfaces: occluded when anything is hit with t < tMax.
+struct ShadowRay {
+    vec3 origin;
+    vec3 dir;
+    float tMax;
+};
+
+ShadowRay shadowRay(ShadingPoint sh, SurfacePoint light) {
     vec3 toLight = light.position - sh.surface.position;
-    vec3 origin = spawnOrigin(sh, toLight);
+    ShadowRay r;
+    r.origin = spawnOrigin(sh, toLight);
     vec3 target = offsetRayOrigin(light.position,
                                   dot(toLight, light.normal) < 0.0 ? light.normal : -light.normal);
-    vec3 d = target - origin;
+    vec3 d = target - r.origin;
     float dist = length(d);
+    r.dir = d / dist;
+    r.tMax = dist * (1.0 - 1e-4);
+    return r;
+}
+
+// Unoccluded between a shading point and a point on a light.
+bool visible(ShadingPoint sh, SurfacePoint light, inout uint rays) {
+    ShadowRay r = shadowRay(sh, light);
     rays += 1u;
-    return !traceAny(origin, d / dist, dist * (1.0 - 1e-4));
+    return !traceAny(r.origin, r.dir, r.tMax);
 }
 
 #endif
