@@ -173,6 +173,32 @@ protected:
         return call(push, size_t(4) * count, chain, path.vertices, {});
     }
 
+    // Proposal `pick` of a propose() call of n proposals from x: the path y it left in `chain`.
+    ChainPath proposal(const ChainPath& x, vk::Buffer& chain, uint32_t n, uint32_t pick,
+                       const std::vector<glm::vec4>& proposals) {
+        ChainPath y = x;
+        const auto slots = chain.download<gpu::ChainVertex>(size_t(n) * 2 * kMaxVertices);
+        for (size_t v = 0; v < y.vertices.size(); ++v)
+            y.vertices[v] = slots[(size_t(pick) * 2 + 1) * kMaxVertices + v];
+        y.raster = glm::vec2(proposals[4 * pick]);
+        return y;
+    }
+
+    // Valid proposals from `from` for which near(result record) holds, over `batches` batches
+    // of n (seeds seed, seed + 1, ...).
+    template <typename Near>
+    double countProposals(uint32_t mode, const ChainPath& from, uint32_t n, uint32_t seed,
+                          int batches, const DensityPush& push, vk::Buffer& chain, Near near) {
+        double hits = 0.0;
+        for (int b = 0; b < batches; ++b) {
+            const auto r = propose(mode, from, n, seed + uint32_t(b), push, chain);
+            for (uint32_t i = 0; i < n; ++i)
+                if (r[4 * i].z > 0.5f && near(&r[4 * i]))
+                    hits += 1.0;
+        }
+        return hits;
+    }
+
     vk::Buffer chainBuffer(uint32_t chains) {
         return zeros(size_t(chains) * 2 * kMaxVertices * sizeof(gpu::ChainVertex),
                      "chain vertices");
@@ -484,11 +510,7 @@ TEST_F(ErptDensities, LensDetailedBalanceInAreaMeasure) {
     ASSERT_NE(x, nullptr);
     // x's proposals again, to read y from the chain buffer.
     const auto first = propose(0, *x, n, 41, push, chain);
-    ChainPath y = *x;
-    const auto slots = chain.download<gpu::ChainVertex>(size_t(n) * 2 * kMaxVertices);
-    for (size_t v = 0; v < y.vertices.size(); ++v)
-        y.vertices[v] = slots[(size_t(pick) * 2 + 1) * kMaxVertices + v];
-    y.raster = glm::vec2(first[4 * pick]);
+    const ChainPath y = proposal(*x, chain, n, pick, first);
     const glm::dvec3 y1(first[4 * pick + 1].z, first[4 * pick + 1].w, first[4 * pick + 2].x);
     const glm::dvec3 x1 = dv(first[4 * pick + 3]);
     const double densityX = first[4 * pick + 2].z, densityY = first[4 * pick + 2].y;
@@ -497,17 +519,10 @@ TEST_F(ErptDensities, LensDetailedBalanceInAreaMeasure) {
     const uint32_t plane = x->vertices[0].triangle;
     auto countNear = [&](const ChainPath& from, const glm::dvec3& target, uint32_t seed,
                          int batches) {
-        double hits = 0.0;
-        for (int b = 0; b < batches; ++b) {
-            const auto r = propose(0, from, n, seed + uint32_t(b), push, chain);
-            for (uint32_t i = 0; i < n; ++i) {
-                const glm::dvec3 p(r[4 * i + 1].z, r[4 * i + 1].w, r[4 * i + 2].x);
-                if (r[4 * i].z > 0.5f && uint32_t(r[4 * i + 3].w) == plane &&
-                    glm::length(p - target) < rho)
-                    hits += 1.0;
-            }
-        }
-        return hits;
+        return countProposals(0, from, n, seed, batches, push, chain, [&](const glm::vec4* r) {
+            const glm::dvec3 p(r[1].z, r[1].w, r[2].x);
+            return uint32_t(r[3].w) == plane && glm::length(p - target) < rho;
+        });
     };
     const int batches = 8;
     const double nxy = countNear(*x, y1, 100, batches);
@@ -626,11 +641,7 @@ void ErptDensities::expectCausticDetailedBalance(bool uniformLaw) {
         }
     }
     ASSERT_GE(pick, 0);
-    ChainPath y = *x;
-    auto slots = chain.download<gpu::ChainVertex>(size_t(n) * 2 * kMaxVertices);
-    for (size_t v = 0; v < y.vertices.size(); ++v)
-        y.vertices[v] = slots[(size_t(pick) * 2 + 1) * kMaxVertices + v];
-    y.raster = glm::vec2(first[4 * pick]);
+    const ChainPath y = proposal(*x, chain, n, uint32_t(pick), first);
     const double claimed = first[4 * pick].w;  // T(y -> x) / T(x -> y)
     const glm::dvec3 omegaX = dv(first[4 * pick + 3]), omegaY = dv(first[4 * pick + 2]);
     const double rho = 0.25 * angleBetween(omegaX, omegaY);
@@ -638,14 +649,9 @@ void ErptDensities::expectCausticDetailedBalance(bool uniformLaw) {
     // Counts of valid proposals within rho of `target`, over `batches` batches of n.
     auto countNear = [&](const ChainPath& from, const glm::dvec3& target, uint32_t seed,
                          int batches) {
-        double hits = 0.0;
-        for (int b = 0; b < batches; ++b) {
-            const auto r = propose(1, from, n, seed + uint32_t(b), push, chain);
-            for (uint32_t i = 0; i < n; ++i)
-                if (r[4 * i].z > 0.5f && angleBetween(dv(r[4 * i + 2]), target) < rho)
-                    hits += 1.0;
-        }
-        return hits;
+        return countProposals(1, from, n, seed, batches, push, chain, [&](const glm::vec4* r) {
+            return angleBetween(dv(r[2]), target) < rho;
+        });
     };
     const int batches = 8;
     const double nxy = countNear(*x, omegaY, 1000, batches);
