@@ -1,8 +1,8 @@
 #version 460
 // ERPT: how many chains each path-traced sample (record) of this pass starts, and the energy of
-// all seed paths that start chains (in units of e_d; energy[0]), which the chains must deposit in
+// all seed paths that start chains (in units of e_d; ENERGY_SEED), which the chains must deposit in
 // expectation. With ERPT_FLAG_DEPOSIT_DIRECT, the direct seed paths (common/erpt_seeds.glsl) are
-// deposited here at their pixel instead (energy[2]).
+// deposited here at their pixel instead (ENERGY_DIRECT).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #extension GL_EXT_shader_atomic_float : require
@@ -43,7 +43,7 @@ void main() {
         chainCounts[r] = total;
     }
     float sum = subgroupAdd(seedEnergy);
-    if (subgroupElect() && sum != 0.0) atomicAdd(energy[0], sum);
+    if (subgroupElect() && sum != 0.0) atomicAdd(energy[ENERGY_SEED], sum);
     float direct = subgroupAdd(directEnergy);
-    if (subgroupElect() && direct != 0.0) atomicAdd(energy[2], direct);
+    if (subgroupElect() && direct != 0.0) atomicAdd(energy[ENERGY_DIRECT], direct);
 }

@@ -91,5 +91,5 @@ void main() {
         members[member] = m;
     }
     float sum = subgroupAdd(seedEnergy);
-    if (subgroupElect() && sum != 0.0) atomicAdd(energy[0], sum);
+    if (subgroupElect() && sum != 0.0) atomicAdd(energy[ENERGY_SEED], sum);
 }

@@ -1,5 +1,6 @@
 #include "render/redistribution.h"
 
+#include "shared/host_device.h"
 #include "vk/context.h"
 
 namespace pmcr {
@@ -7,7 +8,7 @@ namespace pmcr {
 RedistributionBatch::RedistributionBatch(RenderSession& session)
     : m_session(session),
       m_batch(session.layout(), &session.timer()),
-      m_energy(session.context(), 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "redistribution energy",
+      m_energy(session.context(), gpu::ENERGY_SLOTS * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "redistribution energy",
                vk::MemoryUsage::Readback) {}
 
 void RedistributionBatch::begin() {
@@ -19,11 +20,11 @@ void RedistributionBatch::begin() {
 void RedistributionBatch::submit() {
     m_batch.submitAndWait();
     m_session.film().addCounters(m_session.counters());
-    float e[3];
+    float e[gpu::ENERGY_SLOTS];
     m_energy.download(e, sizeof(e));
-    m_seedEnergy += e[0];
-    m_depositedEnergy += e[1];
-    m_directEnergy += e[2];
+    m_seedEnergy += e[gpu::ENERGY_SEED];
+    m_depositedEnergy += e[gpu::ENERGY_DEPOSITED];
+    m_directEnergy += e[gpu::ENERGY_DIRECT];
 }
 
 nlohmann::json mutationStatistics(const Counters& c) {

@@ -115,7 +115,7 @@ void flushStepCounters(StepCounters c) {
     counterAdd(COUNTER_DEPOSITS_DROPPED, c.dropped);
     counterAdd(COUNTER_RAYS, c.rays);
     float total = subgroupAdd(c.deposited);
-    if (subgroupElect() && total != 0.0) atomicAdd(energy[1], total);
+    if (subgroupElect() && total != 0.0) atomicAdd(energy[ENERGY_DEPOSITED], total);
 }
 
 #endif

@@ -44,7 +44,11 @@ PMCR_CONST uint ERPT_BINDING_CHAIN_VERTICES = 5;  // ChainVertex[chain * 2 * CHA
 PMCR_CONST uint ERPT_BINDING_SPLAT = 6;           // SplatPixel[] (fixed-point deposits)
 PMCR_CONST uint ERPT_BINDING_COUNTERS = 7;        // uint[COUNTER_COUNT]
 PMCR_CONST uint ERPT_BINDING_PIXEL_STATS = 8;     // PixelChainStats[] (diagnostics, filter)
-PMCR_CONST uint ERPT_BINDING_ENERGY = 9;          // float[2]: seed energy, deposited energy
+PMCR_CONST uint ERPT_BINDING_ENERGY = 9;          // float[ENERGY_SLOTS], units of e_d:
+PMCR_CONST uint ENERGY_SEED = 0;       // energy of the seed paths that start chains or members
+PMCR_CONST uint ENERGY_DEPOSITED = 1;  // deposited by chains and members
+PMCR_CONST uint ENERGY_DIRECT = 2;     // direct seed paths deposited at their pixel (--redistribute)
+PMCR_CONST uint ENERGY_SLOTS = 3;
 
 // Mutation statistics counters (shared/render_types.h COUNTER_* continue here).
 PMCR_CONST uint COUNTER_LENS_PROPOSED = 4;
