@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
 #include "core/error.h"
@@ -17,53 +16,33 @@ double RunningStats::variance() const {
     return std::max(0.0, (sumSq - sum * sum / n) / (n - 1.0));
 }
 
-namespace {
-
-// Integral of sqrt(r^2 - x^2) dx from -r to x (the area under a half circle's top).
-double halfChordArea(double x, double r) {
-    const double t = std::clamp(x / r, -1.0, 1.0);
-    const double xc = t * r;
-    return 0.5 * (xc * std::sqrt(std::max(0.0, r * r - xc * xc)) + r * r * std::asin(t)) +
-           0.25 * std::numbers::pi * r * r;
+int pixelDiskHalfWidth(int dy, double r) {
+    const double s = r * r - double(dy) * double(dy);
+    return s < 0.0 ? -1 : int(std::floor(std::sqrt(s)));
 }
 
-double chordIntegral(double x0, double x1, double r) {
-    return x1 > x0 ? halfChordArea(x1, r) - halfChordArea(x0, r) : 0.0;
+uint32_t pixelDiskCount(glm::ivec2 c, double r, int w, int h) {
+    const int R = int(std::floor(r));
+    uint32_t count = 0;
+    for (int dy = -R; dy <= R; ++dy) {
+        const int y = c.y + dy;
+        if (y < 0 || y >= h) continue;
+        const int hw = pixelDiskHalfWidth(dy, r);
+        const int x0 = std::max(0, c.x - hw), x1 = std::min(w - 1, c.x + hw);
+        if (x1 >= x0) count += uint32_t(x1 - x0 + 1);
+    }
+    return count;
 }
 
-// Area of the disk of radius r at the origin intersected with the quadrant x <= a, y <= b:
-// the integral over x <= a of the part of the chord [-h(x), h(x)], h = sqrt(r^2 - x^2), below b.
-double diskQuadrantArea(double a, double b, double r) {
-    a = std::clamp(a, -r, r);
-    if (b >= r) return 2.0 * chordIntegral(-r, a, r);
-    if (b <= -r) return 0.0;
-    const double s = std::sqrt(r * r - b * b);
-    double area = 0.0;
-    // |x| < s: the chord crosses y = b, so b + h(x) of it lies below.
-    const double hi = std::min(a, s);
-    if (hi > -s) area += b * (hi + s) + chordIntegral(-s, hi, r);
-    // |x| >= s: the whole chord lies below b when b >= 0, none of it when b < 0.
-    if (b >= 0.0) area += 2.0 * (chordIntegral(-r, std::min(a, -s), r) + chordIntegral(s, a, r));
-    return area;
-}
-
-}  // namespace
-
-double diskRectangleArea(glm::dvec2 c, double r, double w, double h) {
-    const double x0 = -c.x, x1 = w - c.x, y0 = -c.y, y1 = h - c.y;
-    const double area = diskQuadrantArea(x1, y1, r) - diskQuadrantArea(x0, y1, r) -
-                        diskQuadrantArea(x1, y0, r) + diskQuadrantArea(x0, y0, r);
-    return std::max(0.0, area);
-}
-
-glm::dvec2 sampleDiskInImage(glm::dvec2 c, double r, double w, double h, Pcg32& rng) {
-    const glm::dvec2 lo(std::max(0.0, c.x - r), std::max(0.0, c.y - r));
-    const glm::dvec2 hi(std::min(w, c.x + r), std::min(h, c.y + r));
+glm::ivec2 samplePixelDisk(glm::ivec2 c, double r, int w, int h, Pcg32& rng) {
+    const int R = int(std::floor(r));
+    const int x0 = std::max(0, c.x - R), x1 = std::min(w - 1, c.x + R);
+    const int y0 = std::max(0, c.y - R), y1 = std::min(h - 1, c.y + R);
     for (;;) {
-        const glm::dvec2 p(lo.x + rng.nextDouble() * (hi.x - lo.x),
-                           lo.y + rng.nextDouble() * (hi.y - lo.y));
-        const glm::dvec2 d = p - c;
-        if (d.x * d.x + d.y * d.y < r * r && p.x < w && p.y < h) return p;
+        const glm::ivec2 p(x0 + int(rng.nextBelow(uint32_t(x1 - x0 + 1))),
+                           y0 + int(rng.nextBelow(uint32_t(y1 - y0 + 1))));
+        const int dx = p.x - c.x, dy = p.y - c.y;
+        if (double(dx) * dx + double(dy) * dy <= r * r) return p;
     }
 }
 
@@ -188,28 +167,32 @@ PixelPopulation::PixelPopulation(const PopulationSettings& settings, int width, 
 
 PopulationMember PixelPopulation::makeMember(glm::dvec2 position) const {
     PopulationMember m;
-    m.position = position;
+    m.pixel = glm::ivec2(std::clamp(int(std::floor(position.x)), 0, m_width - 1),
+                         std::clamp(int(std::floor(position.y)), 0, m_height - 1));
     const int k = components();
     for (int c = 0; c < k; ++c) {
         m.alpha[size_t(c)] = 1.0 / double(k);
         m.area[size_t(c)] =
-            diskRectangleArea(position, m_settings.radii[size_t(c)], m_width, m_height);
+            double(pixelDiskCount(m.pixel, m_settings.radii[size_t(c)], m_width, m_height));
     }
     return m;
 }
 
 void PixelPopulation::drawMutations(Pcg32& rng, std::vector<PositionDraw>& out) const {
     const int k = components();
+    const uint32_t tr = m_settings.mutations;
     for (uint32_t i = 0; i < m_members.size(); ++i) {
         const PopulationMember& m = m_members[i];
-        for (uint32_t t = 0; t < m_settings.mutations; ++t) {
-            // Choose the radius by alpha (eq. 4), then a uniform point of its disk.
-            double u = rng.nextDouble();
-            int c = 0;
-            while (c < k - 1 && u >= m.alpha[size_t(c)]) u -= m.alpha[size_t(c++)];
-            const glm::dvec2 p = sampleDiskInImage(m.position, m_settings.radii[size_t(c)],
-                                                   m_width, m_height, rng);
-            out.push_back({p, i, uint32_t(c)});
+        const double offset = rng.nextDouble();
+        int c = 0;
+        double below = 0.0;  // alpha CDF below component c
+        for (uint32_t t = 0; t < tr; ++t) {
+            // Choose the radius by alpha (eq. 4), systematically, then a uniform pixel of its disk.
+            const double u = (double(t) + offset) / double(tr);
+            while (c < k - 1 && u >= below + m.alpha[size_t(c)]) below += m.alpha[size_t(c++)];
+            const glm::ivec2 p =
+                samplePixelDisk(m.pixel, m_settings.radii[size_t(c)], m_width, m_height, rng);
+            out.push_back({uint32_t(p.y) * uint32_t(m_width) + uint32_t(p.x), i, uint32_t(c)});
         }
     }
 }
@@ -294,57 +277,34 @@ ResampleCounts PixelPopulation::resample(Pcg32& rng, const std::vector<glm::dvec
     return counts;
 }
 
-ProposalDensity::ProposalDensity(const PixelPopulation& population, uint32_t poolDraws) {
-    const double w = population.width(), h = population.height();
-    m_uniform = double(poolDraws) / (w * h);
-    const auto& radii = population.settings().radii;
-    m_components = population.components();
-    for (int c = 0; c < m_components; ++c) m_radiusSq[size_t(c)] = radii[size_t(c)] * radii[size_t(c)];
-    m_cell = std::max(1.0, *std::max_element(radii.begin(), radii.end()));
-    m_cellsX = std::max(1, int(std::ceil(w / m_cell)));
-    m_cellsY = std::max(1, int(std::ceil(h / m_cell)));
-    const auto& members = population.members();
-    const double tr = population.settings().mutations;
-    std::vector<uint32_t> cellOf(members.size());
-    m_cellStart.assign(size_t(m_cellsX) * size_t(m_cellsY) + 1, 0);
-    for (size_t i = 0; i < members.size(); ++i) {
-        const int cx = std::min(m_cellsX - 1, int(members[i].position.x / m_cell));
-        const int cy = std::min(m_cellsY - 1, int(members[i].position.y / m_cell));
-        cellOf[i] = uint32_t(cy * m_cellsX + cx);
-        ++m_cellStart[cellOf[i] + 1];
-    }
-    for (size_t c = 1; c < m_cellStart.size(); ++c) m_cellStart[c] += m_cellStart[c - 1];
-    m_x.resize(members.size());
-    m_y.resize(members.size());
-    for (auto& w : m_weight) w.assign(members.size(), 0.0);
-    std::vector<uint32_t> fill(m_cellStart.begin(), m_cellStart.end() - 1);
-    for (size_t i = 0; i < members.size(); ++i) {
-        const auto& m = members[i];
-        const uint32_t e = fill[cellOf[i]]++;
-        m_x[e] = m.position.x;
-        m_y[e] = m.position.y;
-        for (int c = 0; c < m_components; ++c)
-            m_weight[size_t(c)][e] =
-                m.area[size_t(c)] > 0.0 ? tr * m.alpha[size_t(c)] / m.area[size_t(c)] : 0.0;
-    }
-}
-
-double ProposalDensity::operator()(glm::dvec2 x) const {
-    const int cx = std::min(m_cellsX - 1, int(x.x / m_cell));
-    const int cy = std::min(m_cellsY - 1, int(x.y / m_cell));
-    const int x0 = std::max(0, cx - 1), x1 = std::min(m_cellsX - 1, cx + 1);
-    double q = m_uniform;
-    for (int y = std::max(0, cy - 1); y <= std::min(m_cellsY - 1, cy + 1); ++y) {
-        // Cells x0..x1 of a row are contiguous in m_entries.
-        const size_t row = size_t(y) * size_t(m_cellsX);
-        const uint32_t begin = m_cellStart[row + size_t(x0)], end = m_cellStart[row + size_t(x1) + 1];
-        const double r0 = m_radiusSq[0], r1 = m_radiusSq[1], r2 = m_radiusSq[2];
-        const double *px = m_x.data(), *py = m_y.data();
-        const double *w0 = m_weight[0].data(), *w1 = m_weight[1].data(), *w2 = m_weight[2].data();
-        for (uint32_t j = begin; j < end; ++j) {
-            const double dx = x.x - px[j], dy = x.y - py[j];
-            const double d2 = dx * dx + dy * dy;
-            q += (d2 < r0 ? w0[j] : 0.0) + (d2 < r1 ? w1[j] : 0.0) + (d2 < r2 ? w2[j] : 0.0);
+std::vector<double> PixelPopulation::expectedDraws(double poolPerPixel) const {
+    // Each disk row adds TR alpha_ik / area_ik to a run of pixels: +v at its first pixel and -v
+    // past its last in a difference image, then running sums along each row.
+    const size_t w = size_t(m_width), stride = w + 1;  // a row's "past its last" slot included
+    std::vector<double> diff(stride * size_t(m_height), 0.0);
+    const double tr = double(m_settings.mutations);
+    for (const PopulationMember& m : m_members)
+        for (int c = 0; c < components(); ++c) {
+            if (!(m.area[size_t(c)] > 0.0)) continue;
+            const double v = tr * m.alpha[size_t(c)] / m.area[size_t(c)];
+            const double r = m_settings.radii[size_t(c)];
+            const int R = int(std::floor(r));
+            for (int dy = -R; dy <= R; ++dy) {
+                const int y = m.pixel.y + dy;
+                if (y < 0 || y >= m_height) continue;
+                const int hw = pixelDiskHalfWidth(dy, r);
+                const int x0 = std::max(0, m.pixel.x - hw), x1 = std::min(m_width - 1, m.pixel.x + hw);
+                if (x1 < x0) continue;
+                diff[size_t(y) * stride + size_t(x0)] += v;
+                diff[size_t(y) * stride + size_t(x1) + 1] -= v;
+            }
+        }
+    std::vector<double> q(w * size_t(m_height));
+    for (int y = 0; y < m_height; ++y) {
+        double run = 0.0;
+        for (size_t x = 0; x < w; ++x) {
+            run += diff[size_t(y) * stride + x];
+            q[size_t(y) * w + x] = poolPerPixel + run;
         }
     }
     return q;

@@ -43,13 +43,18 @@ struct RunningStats {
     double variance() const;
 };
 
-// Area of the disk of radius r centred at c intersected with the rectangle [0,w] x [0,h]
-// (exact: inclusion-exclusion over quadrants, each an integral of the circle's chord).
-double diskRectangleArea(glm::dvec2 c, double r, double w, double h);
+// PMC-PT's kernels here are discrete: a member sits at a pixel and a mutation picks a pixel of
+// the "pixel disk" of radius r around it, the pixels at integer offsets (dx, dy) with
+// dx^2 + dy^2 <= r^2, clipped to the image. The position inside the picked pixel comes from the
+// pixel's own stratified sequence (see render/pmc_pt_integrator.h), so a step's proposal density
+// is constant over each pixel and the path tracer keeps its stratification.
 
-// A uniform point of disk(c, r) ∩ [0,w) x [0,h), by rejection from the intersection's bounding
-// box (c must lie in the rectangle). Its density there is 1 / diskRectangleArea(c, r, w, h).
-glm::dvec2 sampleDiskInImage(glm::dvec2 c, double r, double w, double h, Pcg32& rng);
+// Half-width of the pixel disk's row dy: offsets |dx| <= floor(sqrt(r^2 - dy^2)); -1 outside.
+int pixelDiskHalfWidth(int dy, double r);
+// Number of pixels in the pixel disk of radius r at c, clipped to the w x h image.
+uint32_t pixelDiskCount(glm::ivec2 c, double r, int w, int h);
+// A uniform pixel of that clipped pixel disk (by rejection from its bounding square).
+glm::ivec2 samplePixelDisk(glm::ivec2 c, double r, int w, int h, Pcg32& rng);
 
 // The defensive mixture weights of PMC-PT sec. 4.3.3 and PMC-ER sec. 4.5 from unnormalised
 // scores alpha'_k: alpha_k = eps + (1 - eps) alpha'_k / sum alpha'. The papers' weights sum to
@@ -110,18 +115,19 @@ struct PopulationSettings {
     double epsilon = 0.01;       // floor of the alpha weights
 };
 
-// One camera-sample position a step asks the path tracer for.
+// One camera sample a step asks the path tracer for: a pixel (its position inside the pixel
+// comes from the pixel's sequence) and who proposed it.
 struct PositionDraw {
     static constexpr uint32_t kPool = 0xffffffffu;
-    glm::dvec2 position;
+    uint32_t pixel;      // linear pixel index
     uint32_t member;     // the member whose kernel proposed it, or kPool
     uint32_t component;  // the radius it was drawn with (members only)
 };
 
 struct PopulationMember {
-    glm::dvec2 position{0.0};
+    glm::ivec2 pixel{0};
     std::array<double, kMaxPopulationRadii> alpha{};
-    std::array<double, kMaxPopulationRadii> area{};  // |disk_k ∩ image|, for the density
+    std::array<double, kMaxPopulationRadii> area{};  // pixels in pixel disk k, for the density
     uint32_t stepsUsed = 0;  // N_used: resample steps since (re)generation
     std::array<RunningStats, kMaxPopulationRadii> tagged{};  // luminance per component since then
     RunningStats all() const;
@@ -144,10 +150,12 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
 
-    // Each member's TR mutations (PMC-PT eq. 4): component k with probability alpha_k, then a
-    // uniform point of the disk of radius d_k around the member, inside the image. All of a
-    // step's mutations start from the member's position at the start of the step, so the step's
-    // proposal density is known (ProposalDensity). Appends member by member, in order.
+    // Each member's TR mutations (PMC-PT eq. 4): component k for about TR alpha_k of them
+    // (systematic sampling over the alpha CDF: mutation t takes u = (t + U) / TR, so each
+    // component's expected count is exactly TR alpha_k), then a uniform pixel of the pixel disk
+    // of radius d_k around the member. All of a step's mutations start from the member's pixel
+    // at the start of the step, so the step's expected counts are known (expectedDraws).
+    // Appends member by member, in order.
     void drawMutations(Pcg32& rng, std::vector<PositionDraw>& out) const;
     // Tags a mutation's luminance with its member and component (sec. 4.3.1, 4.3.3).
     void record(const PositionDraw& draw, double luminance);
@@ -167,37 +175,19 @@ public:
     uint32_t replacementsPerStep() const;
     uint32_t poolReplacementsPerStep(bool importanceAvailable) const;
 
-    // A member at `position` with uniform alpha and no history.
+    // A member at the pixel containing raster `position`, with uniform alpha and no history.
     PopulationMember makeMember(glm::dvec2 position) const;
+
+    // The step's expected number of draws in each pixel (the discrete proposal density):
+    //   Q_p = poolPerPixel + sum_i sum_k TR alpha_ik 1[p in pixel disk k of i] / area_ik,
+    // by row spans and running sums, so it costs the rows of the disks, not their pixels.
+    std::vector<double> expectedDraws(double poolPerPixel) const;
 
 private:
     PopulationSettings m_settings;
     int m_width;
     int m_height;
     std::vector<PopulationMember> m_members;
-};
-
-// The density of one step's proposals on the image plane, summed over the step's draws:
-//   Q(x) = sum_i sum_k TR alpha_ik 1[|x - y_i| < d_k] / |disk_k(y_i) ∩ image| + D / (w h),
-// D the step's pool draws (each uniform over the image). Members are bucketed in a grid of
-// cells as large as the largest radius, so Q(x) looks at 3x3 cells.
-class ProposalDensity {
-public:
-    ProposalDensity(const PixelPopulation& population, uint32_t poolDraws);
-    double operator()(glm::dvec2 x) const;
-
-private:
-    double m_uniform;
-    int m_components;
-    std::array<double, kMaxPopulationRadii> m_radiusSq{};
-    double m_cell;
-    int m_cellsX;
-    int m_cellsY;
-    std::vector<uint32_t> m_cellStart;  // members of cell c: entries start[c]..start[c+1]
-    // Members grouped by cell, as Q needs them (structure of arrays, so the loop vectorises):
-    // position and TR alpha_ik / area_ik per component (0 past the last component).
-    std::vector<double> m_x, m_y;
-    std::array<std::vector<double>, kMaxPopulationRadii> m_weight;
 };
 
 }  // namespace pmcr

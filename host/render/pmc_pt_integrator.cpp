@@ -18,17 +18,6 @@ namespace {
 
 constexpr uint32_t kSlots = 8;              // dispatches per batch, each with its own buffers
 constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
-constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
-// Step t is weighted min(t, kRampSteps): the first steps' control variates come from few samples.
-constexpr uint64_t kRampSteps = 8;
-
-// The pixel a raster position lands in, as camera_sample_kernel.glsl computes it.
-uint32_t pixelOf(glm::vec2 raster, int width, int height) {
-    constexpr float oneMinusEpsilon = 0.99999994f;
-    const float x = std::clamp(raster.x, 0.0f, float(width) * oneMinusEpsilon);
-    const float y = std::clamp(raster.y, 0.0f, float(height) * oneMinusEpsilon);
-    return uint32_t(y) * uint32_t(width) + uint32_t(x);
-}
 
 // Interleaves the bits of a pixel's coordinates (Morton order), so that sorting by it keeps
 // neighbouring camera rays in neighbouring invocations.
@@ -58,6 +47,9 @@ PmcPtOptions PmcPtOptions::fromSettings(const RenderSettings& s) {
     if (mutations < 1 || mutations > 4096) throw Error("--mutations: expected 1..4096");
     o.mutations = uint32_t(mutations);
     o.radii = parseRadii(s.optionString("radii", "5,10,50"));
+    const int poolSpp = s.optionInt("pool-spp", int(o.poolSpp));
+    if (poolSpp < 1 || poolSpp > 256) throw Error("--pool-spp: expected 1..256");
+    o.poolSpp = uint32_t(poolSpp);
     const int adaptEvery = s.optionInt("adapt-every", int(o.adaptEvery));
     if (adaptEvery < 1) throw Error("--adapt-every: expected a positive number of resample steps");
     o.adaptEvery = uint32_t(adaptEvery);
@@ -71,17 +63,17 @@ PmcPtOptions PmcPtOptions::fromSettings(const RenderSettings& s) {
         throw Error("--estimator: expected weighted or average, got '" + estimator + "'");
     o.plainAverage = estimator == "average";
     o.defensive = s.optionDouble("defensive", o.defensive);
-    if (!(o.defensive >= 0.0 && o.defensive < 1.0))
-        throw Error("--defensive: expected a share of the eye paths, 0 <= share < 1");
-    if (!o.plainAverage && !(o.defensive > 0.0))
-        throw Error("--defensive: the weighted estimator needs a positive share (it keeps the "
-                    "proposal density positive on the whole image)");
+    if (!(o.defensive > 0.0 && o.defensive < 1.0))
+        throw Error("--defensive: expected a share of the eye paths, 0 < share < 1");
     return o;
 }
 
 uint32_t PmcPtOptions::populationFor(uint64_t pixels) const {
     if (population > 0) return population;
-    return uint32_t(std::max<double>(16.0, std::round(kPaperMembersPerPixel * double(pixels))));
+    // Members whose TR mutations make `defensive` of a step's draws the pool's.
+    const double poolDraws = double(poolSpp) * double(pixels);
+    return uint32_t(std::max<double>(
+        16.0, std::round(poolDraws * (1.0 - defensive) / (defensive * double(mutations)))));
 }
 
 PmcPt::PmcPt(const RenderSettings& settings) : m_options(PmcPtOptions::fromSettings(settings)) {}
@@ -98,26 +90,25 @@ RenderOutput PmcPt::render(RenderSession& session) {
     ps.radii = o.radii;
     ps.resampleRate = o.resampleRate;
     ps.epsilon = o.epsilon;
-    // A step's draws: TR per member plus the defensive pool draws, `defensive` of the total.
+    // A step's draws: TR per member plus poolSpp pool draws in every pixel.
+    const uint32_t poolSpp = o.poolSpp;
     const uint64_t mutationDraws = uint64_t(ps.size) * ps.mutations;
-    const uint32_t poolDraws =
-        o.defensive > 0.0
-            ? uint32_t(std::max<double>(1.0, std::round(o.defensive * double(mutationDraws) /
-                                                         (1.0 - o.defensive))))
-            : 0u;
+    const uint64_t poolDraws = uint64_t(poolSpp) * pixels;
     const uint64_t drawsPerStep = mutationDraws + poolDraws;
     if (drawsPerStep > std::numeric_limits<uint32_t>::max() / 2)
         throw Error("pmc-pt: --population times --mutations is too large");
     // --spp N: N eye paths per pixel on average in all, in whole steps of equal size (the step
     // count is fixed in advance, so the steps' weights are deterministic).
-    const uint64_t stepLimit =
-        settings.spp > 0
-            ? std::max<uint64_t>(1, uint64_t(std::llround(double(settings.spp) * pixels /
-                                                          double(drawsPerStep))))
-        : settings.timeLimit > 0.0
-            ? std::numeric_limits<uint64_t>::max()
-            : std::max<uint64_t>(1, uint64_t(std::llround(double(kDefaultSpp) * pixels /
-                                                          double(drawsPerStep))));
+    // Every step draws about drawsPerStep; the first is the pool's alone, firstSpp per pixel.
+    const uint32_t firstSpp =
+        uint32_t(std::max<uint64_t>(1, (drawsPerStep + pixels / 2) / pixels));
+    auto stepsFor = [&](double spp) {
+        return std::max<uint64_t>(1, uint64_t(std::llround(spp * double(pixels) /
+                                                           double(drawsPerStep))));
+    };
+    const uint64_t stepLimit = settings.spp > 0         ? stepsFor(double(settings.spp))
+                               : settings.timeLimit > 0.0 ? std::numeric_limits<uint64_t>::max()
+                                                          : stepsFor(double(kDefaultSpp));
 
     // Pipelines and buffers before the clock starts.
     const vk::Kernel& kernel = session.kernel("pt");
@@ -143,7 +134,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
         s.set->bind(gpu::PT_BINDING_RESULTS, s.results);
     }
     gpu::PtPush push{};
-    push.source = gpu::PT_SOURCE_POINTS;
+    push.source = gpu::PT_SOURCE_LIST;
     push.flags = gpu::PT_FLAG_WRITE_RESULTS;
     push.seed = settings.seed;
     push.maxDepth = settings.maxDepth;
@@ -195,6 +186,10 @@ RenderOutput PmcPt::render(RenderSession& session) {
     };
 
     Pcg32 rng(settings.seed, 0x504d432d5054ULL);  // "PMC-PT"
+    // Each step's render seed, which scrambles every pixel's sequence afresh. (One generator,
+    // not one stream per step: PCG streams whose increments differ by 2 repeat each other's
+    // outputs one step apart.)
+    Pcg32 stepSeeds(settings.seed, 0x53544550ULL);  // "STEP"
     PixelPopulation population(ps, width, height, rng);
     PositionPool pool(width, height);
     PixelImportance importance;
@@ -204,18 +199,17 @@ RenderOutput PmcPt::render(RenderSession& session) {
     // statistics beta needs, and the strategy counts.
     std::vector<glm::dvec3> weightedSum(pixels, glm::dvec3(0.0));
     std::vector<glm::dvec3> plainSum(pixels, glm::dvec3(0.0));
-    std::vector<glm::dvec3> control(pixels, glm::dvec3(0.0));
     std::vector<RunningStats> pixelLuminance(pixels);
     std::vector<std::array<uint32_t, kMaxPopulationRadii>> strategy(pixels, {0u, 0u, 0u});
     uint64_t steps = 0, samples = 0, adaptations = 0;
-    double weightTotal = 0.0;  // sum of the steps' weights, which depend only on their number
     ResampleCounts resampled;
 
     auto estimate = [&](uint32_t p) {
         if (o.plainAverage)
             return pixelLuminance[p].count > 0 ? plainSum[p] / double(pixelLuminance[p].count)
                                                : glm::dvec3(0.0);
-        return weightTotal > 0.0 ? weightedSum[p] / weightTotal : glm::dvec3(0.0);
+        // The steps' average: equal weights, which depend only on the number of steps.
+        return steps > 0 ? weightedSum[p] / double(steps) : glm::dvec3(0.0);
     };
     auto resolve = [&] {
         Image image(width, height);
@@ -231,86 +225,89 @@ RenderOutput PmcPt::render(RenderSession& session) {
     std::vector<PositionDraw> draws;
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
-    std::vector<double> density;
-    std::vector<uint32_t> order, keys;
-    std::vector<gpu::SampleRequest> sortedRequests;
-    std::vector<glm::vec4> sortedResults;
+    std::vector<uint32_t> count(pixels), first(pixels), drawOf;
     double hostSeconds = 0.0;  // population, densities and reduction: the method's own overhead
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
+    // Pixels in Morton order, so neighbouring camera rays run in neighbouring invocations.
+    std::vector<uint32_t> mortonPixels(pixels);
+    for (uint32_t p = 0; p < pixels; ++p) mortonPixels[p] = p;
+    std::sort(mortonPixels.begin(), mortonPixels.end(), [&](uint32_t a, uint32_t b) {
+        return mortonCode(a % uint32_t(width), a / uint32_t(width)) <
+               mortonCode(b % uint32_t(width), b / uint32_t(width));
+    });
     session.startClock();
     while (steps < stepLimit && !session.shouldStop()) {
-        // The step's positions: every member's TR mutations, then the defensive pool draws.
+        // The step's draws: every member's TR mutations (pixels), then poolSpp pool draws in
+        // every pixel, and their expected counts Q_p, known before any of them is traced.
         auto hostStart = std::chrono::steady_clock::now();
         draws.clear();
-        population.drawMutations(rng, draws);
-        const std::vector<glm::dvec2> poolPositions = pool.next(poolDraws, rng);
-        for (const glm::dvec2& p : poolPositions) draws.push_back({p, PositionDraw::kPool, 0});
-        // Their density Q_t, known before any of them is traced.
-        const ProposalDensity proposal(population, poolDraws);
-        requests.resize(draws.size());
-        density.resize(draws.size());
-        for (size_t j = 0; j < draws.size(); ++j) {
-            const PositionDraw& d = draws[j];
-            gpu::SampleRequest& r = requests[j];
-            r.raster = glm::vec2(d.position);
-            // Each path gets a sampler sequence of its own (stream = the draw's number in the
-            // render). Sharing one across a member's mutations would stratify them, and then a
-            // path's random numbers would depend on earlier paths' whose values decided where
-            // this one goes: the estimator would no longer be unbiased given the past.
-            const uint64_t draw = samples + j;
-            r.pixel = uint32_t(draw);
-            r.sampleIndex = uint32_t(draw >> 32);
-            density[j] = proposal(d.position);
-        }
-        // Trace in Morton order of the pixels (coherent rays), results back in draw order.
-        order.resize(draws.size());
-        keys.resize(draws.size());
-        for (uint32_t j = 0; j < order.size(); ++j) {
-            order[j] = j;
-            keys[j] = mortonCode(uint32_t(requests[j].raster.x), uint32_t(requests[j].raster.y));
-        }
-        std::stable_sort(order.begin(), order.end(),
-                         [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
-        sortedRequests.resize(draws.size());
-        for (size_t i = 0; i < order.size(); ++i) sortedRequests[i] = requests[order[i]];
-        hostSeconds += since(hostStart);
-        if (!trace(sortedRequests, sortedResults)) break;  // an unfinished step is dropped whole
-        hostStart = std::chrono::steady_clock::now();
-        results.resize(draws.size());
-        for (size_t i = 0; i < order.size(); ++i) results[order[i]] = sortedResults[i];
+        // The first step is the pool's alone: every pixel gets exactly poolSpp samples, so the
+        // control variates of the next step come from real samples (and beta from the image).
+        const bool poolOnly = steps == 0;
+        if (!poolOnly) population.drawMutations(rng, draws);
+        const std::vector<double> expected =
+            poolOnly ? std::vector<double>(pixels, double(firstSpp))
+                     : population.expectedDraws(double(poolSpp));
+        std::fill(count.begin(), count.end(), poolOnly ? firstSpp : poolSpp);  // then the members'
 
-        // Reduce in draw order: I_t(pixel) = c + sum (L - c) / Q_t with c the plain average of
-        // the pixel's earlier samples (see the header; the image's while it has none), the plain
-        // sums, the tagged luminances and the strategy counts.
+        for (const PositionDraw& d : draws) ++count[d.pixel];
+        // Pixel p's samples are points 0 .. count_p - 1 of its sequence, scrambled afresh for the
+        // step (the step's seed): the pool draws first, then the members' in draw order.
+        uint32_t total = 0;
+        for (uint32_t p : mortonPixels) {
+            first[p] = total;
+            total += count[p];
+        }
+        requests.resize(total);
+        drawOf.assign(total, PositionDraw::kPool);
+        std::vector<uint32_t> fill(pixels);
+        const uint32_t stepPoolSpp = poolOnly ? firstSpp : poolSpp;
+        for (uint32_t p = 0; p < pixels; ++p) fill[p] = first[p] + stepPoolSpp;
+        for (uint32_t j = 0; j < draws.size(); ++j) drawOf[fill[draws[j].pixel]++] = j;
+        for (uint32_t p : mortonPixels)
+            for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
+        push.seed = stepSeeds.nextUint();
+        hostSeconds += since(hostStart);
+        if (!trace(requests, results)) break;  // an unfinished step is dropped whole
+        hostStart = std::chrono::steady_clock::now();
+
+        // Reduce pixel by pixel: I_t(p) = c + sum over its samples of (L - c) / Q_p, with c the
+        // plain average of the pixel's earlier samples (see the header; the image's while it has
+        // none), the plain sums, the tagged luminances and the strategy counts.
         glm::dvec3 imageSum(0.0);
         for (uint32_t p = 0; p < pixels; ++p) imageSum += plainSum[p];
         const glm::dvec3 imageMean = samples > 0 ? imageSum / double(samples) : glm::dvec3(0.0);
         for (uint32_t p = 0; p < pixels; ++p) {
             const uint32_t n = pixelLuminance[p].count;
-            control[p] = n > 0 ? plainSum[p] / double(n) : imageMean;
+            const glm::dvec3 c = n > 0 ? plainSum[p] / double(n) : imageMean;
+            glm::dvec3 sum(0.0);
+            for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
+                const glm::vec4 r = results[i];
+                const glm::dvec3 radiance(r.x, r.y, r.z);
+                sum += radiance;
+                weightedSum[p] += (radiance - c) / expected[p];
+                pixelLuminance[p].add(r.w);
+                const uint32_t j = drawOf[i];
+                if (j != PositionDraw::kPool) {
+                    population.record(draws[j], r.w);
+                    ++strategy[p][draws[j].component];
+                }
+            }
+            weightedSum[p] += c;
+            plainSum[p] += sum;
         }
-        const double stepWeight = double(std::min(steps + 1, kRampSteps));
-        for (uint32_t p = 0; p < pixels; ++p) weightedSum[p] += stepWeight * control[p];
-        for (size_t j = 0; j < draws.size(); ++j) {
-            const uint32_t p = pixelOf(requests[j].raster, width, height);
-            const glm::vec4 r = results[j];
-            const glm::dvec3 radiance(r.x, r.y, r.z);
-            weightedSum[p] += stepWeight * (radiance - control[p]) / density[j];
-            plainSum[p] += radiance;
-            pixelLuminance[p].add(r.w);
-            population.record(draws[j], r.w);
-            if (draws[j].member != PositionDraw::kPool) ++strategy[p][draws[j].component];
-        }
+        // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
+        const std::vector<glm::dvec2> poolPositions =
+            pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
+        samples += total;
         ++steps;
-        weightTotal += stepWeight;
-        samples += draws.size();
-        population.endStep();
+        if (!poolOnly) population.endStep();
 
         // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
         if (steps == 1 || steps % o.adaptEvery == 0) {
-            population.adapt();
+            if (!poolOnly) population.adapt();
             std::vector<double> luminance(pixels);
             for (uint32_t p = 0; p < pixels; ++p) {
                 const glm::dvec3 v = estimate(p);
@@ -319,11 +316,12 @@ RenderOutput PmcPt::render(RenderSession& session) {
             importance.update(pixelLuminance, luminance);
             ++adaptations;
         }
-        // Resample; pool replacements reuse positions this step already traced.
-        const ResampleCounts c = population.resample(rng, poolPositions, importance);
-        resampled.eliminated += c.eliminated;
-        resampled.fromPool += c.fromPool;
-        resampled.fromImportance += c.fromImportance;
+        if (!poolOnly) {
+            const ResampleCounts c = population.resample(rng, poolPositions, importance);
+            resampled.eliminated += c.eliminated;
+            resampled.fromPool += c.fromPool;
+            resampled.fromImportance += c.fromImportance;
+        }
         hostSeconds += since(hostStart);
 
         const double sppDone = double(samples) / double(pixels);
@@ -366,7 +364,8 @@ RenderOutput PmcPt::render(RenderSession& session) {
         {"population", ps.size},
         {"mutations", ps.mutations},
         {"radii", radii},
-        {"pool_draws_per_step", poolDraws},
+        {"pool_spp", poolSpp},
+        {"first_step_eye_paths", uint64_t(firstSpp) * pixels},
         {"eye_paths_per_step", drawsPerStep},
         {"resample_steps", steps},
         {"adaptations", adaptations},

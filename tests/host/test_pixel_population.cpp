@@ -1,6 +1,5 @@
-// PMC-PT's host side (render/pixel_population.h) against direct references: the disk-rectangle
-// area against numerical integration, disk sampling and a step's proposals against their
-// densities (chi-square), the alpha and beta updates against the paper's formulas, the pool's
+// PMC-PT's host side (render/pixel_population.h) against direct references: pixel disks against
+// brute force, disk sampling and a step's proposals against their expected counts (chi-square), the alpha and beta updates against the paper's formulas, the pool's
 // stratification and the resampling proportions.
 #include <gtest/gtest.h>
 
@@ -14,62 +13,51 @@
 namespace pmcr::test {
 namespace {
 
-// Midpoint-rule area of disk(c, r) ∩ [0,w] x [0,h] on an n x n grid over the rectangle.
-double numericArea(glm::dvec2 c, double r, double w, double h, int n = 2000) {
-    double inside = 0.0;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const double x = (i + 0.5) * w / n - c.x, y = (j + 0.5) * h / n - c.y;
-            if (x * x + y * y < r * r) inside += 1.0;
+// The clipped pixel disk by brute force: every pixel of the image tested.
+std::vector<glm::ivec2> pixelDisk(glm::ivec2 c, double r, int w, int h) {
+    std::vector<glm::ivec2> pixels;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double dx = x - c.x, dy = y - c.y;
+            if (dx * dx + dy * dy <= r * r) pixels.push_back({x, y});
         }
-    return inside * w * h / (double(n) * n);
+    return pixels;
 }
 
-TEST(PixelPopulation, DiskRectangleAreaMatchesNumericalIntegration) {
-    const double pi = std::numbers::pi;
-    EXPECT_NEAR(diskRectangleArea({50, 50}, 5, 100, 100), pi * 25, 1e-9);   // inside
-    EXPECT_NEAR(diskRectangleArea({5, 5}, 50, 10, 10), 100.0, 1e-9);        // covers it
-    EXPECT_NEAR(diskRectangleArea({0, 0}, 5, 100, 100), pi * 25 / 4, 1e-9); // a corner
-    EXPECT_NEAR(diskRectangleArea({0, 50}, 5, 100, 100), pi * 25 / 2, 1e-9);// an edge
+TEST(PixelPopulation, PixelDiskCountMatchesBruteForce) {
+    EXPECT_EQ(pixelDiskCount({50, 50}, 1.0, 100, 100), 5u);   // the centre and its 4 neighbours
+    EXPECT_EQ(pixelDiskCount({50, 50}, 1.5, 100, 100), 9u);   // and the diagonals
+    EXPECT_EQ(pixelDiskCount({0, 0}, 50, 10, 10), 100u);      // covers the image
     const struct {
-        glm::dvec2 c;
-        double r, w, h;
+        glm::ivec2 c;
+        double r;
+        int w, h;
     } cases[] = {{{3, 4}, 10, 32, 24}, {{30, 2}, 5, 32, 24}, {{16, 12}, 13, 32, 24},
-                 {{1.5, 22.5}, 50, 32, 24}, {{7.25, 0.5}, 7, 24, 24}, {{23.9, 23.9}, 3, 24, 24}};
-    for (const auto& t : cases) {
-        const double exact = diskRectangleArea(t.c, t.r, t.w, t.h);
-        const double numeric = numericArea(t.c, t.r, t.w, t.h);
-        EXPECT_NEAR(exact, numeric, 2e-3 * t.w * t.h / 100.0 + 1e-3 * numeric)
+                 {{1, 22}, 50, 32, 24}, {{7, 0}, 7.5, 24, 24}, {{23, 23}, 3, 24, 24}};
+    for (const auto& t : cases)
+        EXPECT_EQ(pixelDiskCount(t.c, t.r, t.w, t.h), pixelDisk(t.c, t.r, t.w, t.h).size())
             << "centre " << t.c.x << "," << t.c.y << " radius " << t.r;
-    }
 }
 
-// Area of disk(c, r) ∩ the cell [x0, x1) x [y0, y1).
-double diskCellArea(glm::dvec2 c, double r, double x0, double y0, double x1, double y1) {
-    return diskRectangleArea(c - glm::dvec2(x0, y0), r, x1 - x0, y1 - y0);
-}
-
-TEST(PixelPopulation, DiskSamplesAreUniformInsideTheImage) {
-    const double w = 24, h = 16;
+TEST(PixelPopulation, PixelDiskSamplesAreUniformOverTheClippedDisk) {
+    const int w = 24, h = 16;
     Pcg32 rng(7);
-    for (const auto& [c, r] : std::vector<std::pair<glm::dvec2, double>>{
+    for (const auto& [c, r] : std::vector<std::pair<glm::ivec2, double>>{
              {{12, 8}, 5}, {{1, 1}, 10}, {{23, 8}, 50}}) {
-        const double area = diskRectangleArea(c, r, w, h);
-        const int cells = 8;  // 8 x 8 cells over the image
-        std::vector<double> observed(cells * cells, 0.0), expected(cells * cells, 0.0);
+        const auto disk = pixelDisk(c, r, w, h);
+        std::vector<double> observed(size_t(w * h), 0.0), expected(size_t(w * h), 0.0);
         const int n = 40000;
+        for (const auto& p : disk) expected[size_t(p.y * w + p.x)] = double(n) / disk.size();
         for (int i = 0; i < n; ++i) {
-            const glm::dvec2 p = sampleDiskInImage(c, r, w, h, rng);
+            const glm::ivec2 p = samplePixelDisk(c, r, w, h, rng);
             ASSERT_TRUE(p.x >= 0 && p.x < w && p.y >= 0 && p.y < h);
-            ASSERT_LT(glm::length(p - c), r);
-            observed[int(p.y / h * cells) * cells + int(p.x / w * cells)] += 1.0;
+            ASSERT_GT(expected[size_t(p.y * w + p.x)], 0.0) << "outside the disk";
+            observed[size_t(p.y * w + p.x)] += 1.0;
         }
-        for (int j = 0; j < cells; ++j)
-            for (int i = 0; i < cells; ++i)
-                expected[j * cells + i] = n * diskCellArea(c, r, i * w / cells, j * h / cells,
-                                                           (i + 1) * w / cells, (j + 1) * h / cells) /
-                                          area;
-        const Chi2Result chi2 = chi2Test(observed, expected);
+        std::vector<double> o, e;
+        for (size_t i = 0; i < expected.size(); ++i)
+            if (expected[i] > 0.0) o.push_back(observed[i]), e.push_back(expected[i]);
+        const Chi2Result chi2 = chi2Test(o, e);
         EXPECT_GT(chi2.pValue, sidakLevel(0.01, 3)) << chi2.describe();
     }
 }
@@ -170,7 +158,7 @@ TEST(PixelPopulation, ResamplingReplacesFortyPercentHalfFromEachSource) {
     EXPECT_EQ(c.fromPool, 200u);
     EXPECT_EQ(c.fromImportance, 200u);
     for (const auto& m : population.members()) {
-        EXPECT_TRUE(m.position.x >= 0 && m.position.x < 40 && m.position.y >= 0 && m.position.y < 30);
+        EXPECT_TRUE(m.pixel.x >= 0 && m.pixel.x < 40 && m.pixel.y >= 0 && m.pixel.y < 30);
         EXPECT_NEAR(m.alpha[0] + m.alpha[1] + m.alpha[2], 1.0, 1e-12);
     }
 }
@@ -189,9 +177,9 @@ TEST(PixelPopulation, ImportanceReplacementsLandNearImportantPixels) {
     population.resample(rng, pool.next(200, rng), beta);
     // Replacements go in member order, the pool's first: members 100..199 come from beta.
     for (uint32_t i = 100; i < 200; ++i) {
-        const glm::dvec2 p = population.members()[i].position;
-        EXPECT_LE(std::abs(p.x - 7.5), 1.0);
-        EXPECT_LE(std::abs(p.y - 5.5), 1.0);
+        const glm::ivec2 p = population.members()[i].pixel;
+        EXPECT_LE(std::abs(p.x - 7), 1);
+        EXPECT_LE(std::abs(p.y - 5), 1);
     }
 }
 
@@ -207,15 +195,15 @@ TEST(PixelPopulation, SurvivalIsProportionalToTheEliminationWeight) {
     for (int t = 0; t < trials; ++t) {
         PixelPopulation population(s, 16, 16, rng);
         // Member 0: variance 3, member 1: variance 2, both over one step (N_used = 1).
-        population.record({{1, 1}, 0, 0}, 0.0);
-        population.record({{1, 1}, 0, 0}, std::sqrt(6.0));
-        population.record({{1, 1}, 1, 1}, 0.0);
-        population.record({{1, 1}, 1, 1}, 2.0);
+        population.record({0, 0, 0}, 0.0);
+        population.record({0, 0, 0}, std::sqrt(6.0));
+        population.record({0, 1, 1}, 0.0);
+        population.record({0, 1, 1}, 2.0);
         population.endStep();
-        const glm::dvec2 before = population.members()[0].position;
+        const glm::ivec2 before = population.members()[0].pixel;
         std::vector<glm::dvec2> positions = {{15.5, 15.5}};
         population.resample(rng, positions, empty);
-        if (population.members()[0].position == before) ++firstSurvived;
+        if (population.members()[0].pixel == before) ++firstSurvived;
     }
     const double p = 3.0 / 5.0;
     const double sd = std::sqrt(p * (1 - p) / trials);
@@ -225,80 +213,55 @@ TEST(PixelPopulation, SurvivalIsProportionalToTheEliminationWeight) {
     s4.resampleRate = 0.5;
     PixelPopulation population(s4, 16, 16, rng);
     for (uint32_t i : {1u, 3u}) {
-        population.record({{1, 1}, i, 0}, 0.0);
-        population.record({{1, 1}, i, 0}, 1.0);
+        population.record({0, i, 0}, 0.0);
+        population.record({0, i, 0}, 1.0);
     }
     population.endStep();
     const auto before = population.members();
     population.resample(rng, {{15.5, 15.5}, {15.5, 15.5}}, empty);
-    EXPECT_EQ(population.members()[1].position, before[1].position);
-    EXPECT_EQ(population.members()[3].position, before[3].position);
-    EXPECT_NE(population.members()[0].position, before[0].position);
-    EXPECT_NE(population.members()[2].position, before[2].position);
+    EXPECT_EQ(population.members()[1].pixel, before[1].pixel);
+    EXPECT_EQ(population.members()[3].pixel, before[3].pixel);
+    EXPECT_NE(population.members()[0].pixel, before[0].pixel);
+    EXPECT_NE(population.members()[2].pixel, before[2].pixel);
 }
 
-// Brute-force Q(x) (the ProposalDensity formula, member by member).
-double bruteForceDensity(const PixelPopulation& population, glm::dvec2 x, uint32_t poolDraws) {
-    double q = poolDraws / double(population.width() * population.height());
-    for (const auto& m : population.members())
-        for (int k = 0; k < population.components(); ++k) {
-            const double r = population.settings().radii[size_t(k)];
-            if (glm::length(x - m.position) < r)
-                q += population.settings().mutations * m.alpha[size_t(k)] / m.area[size_t(k)];
-        }
-    return q;
-}
-
-// A step's draws (mutations and pool) follow Q / (number of draws): the grid lookup matches the
-// brute-force sum, Q integrates to the number of draws, and a histogram of many steps' draws
-// passes a chi-square test against the cells' integrals of Q.
-TEST(PixelPopulation, StepDrawsFollowTheirProposalDensity) {
+// A step's draws follow the expected counts Q_p: expectedDraws matches the member-by-member
+// sum, sums to the number of draws, and many steps' draws per pixel pass a chi-square test.
+TEST(PixelPopulation, StepDrawsFollowTheirExpectedCounts) {
     const int w = 24, h = 16;
     Pcg32 rng(17);
     PopulationSettings s = smallSettings(12);
     PixelPopulation population(s, w, h, rng);
     // Unequal alphas, as after adaptation.
     for (uint32_t i = 0; i < 12; ++i) {
-        population.record({{0, 0}, i, i % 3}, 0.0);
-        population.record({{0, 0}, i, i % 3}, 1.0 + i);
-        population.record({{0, 0}, i, (i + 1) % 3}, 0.0);
-        population.record({{0, 0}, i, (i + 1) % 3}, 0.5);
+        population.record({0, i, i % 3}, 0.0);
+        population.record({0, i, i % 3}, 1.0 + i);
+        population.record({0, i, (i + 1) % 3}, 0.0);
+        population.record({0, i, (i + 1) % 3}, 0.5);
     }
     population.adapt();
-    const uint32_t poolDraws = 20;
-    const ProposalDensity q(population, poolDraws);
-    for (int t = 0; t < 200; ++t) {
-        const glm::dvec2 x(rng.nextDouble() * w, rng.nextDouble() * h);
-        EXPECT_NEAR(q(x), bruteForceDensity(population, x, poolDraws), 1e-12);
+    const double pool = 2.0;
+    const std::vector<double> q = population.expectedDraws(pool);
+    std::vector<double> brute(size_t(w * h), pool);
+    for (const auto& m : population.members())
+        for (int k = 0; k < 3; ++k)
+            for (const auto& p : pixelDisk(m.pixel, s.radii[size_t(k)], w, h))
+                brute[size_t(p.y * w + p.x)] += s.mutations * m.alpha[size_t(k)] / m.area[size_t(k)];
+    double total = 0.0;
+    for (size_t p = 0; p < q.size(); ++p) {
+        EXPECT_NEAR(q[p], brute[p], 1e-9) << "pixel " << p;
+        total += q[p];
     }
-    const double draws = 12.0 * s.mutations + poolDraws;
-    const int cells = 8;
-    std::vector<double> expected(cells * cells, 0.0), observed(cells * cells, 0.0);
-    double integral = 0.0;
-    for (int j = 0; j < cells; ++j)
-        for (int i = 0; i < cells; ++i) {
-            const double x0 = i * double(w) / cells, y0 = j * double(h) / cells;
-            const double x1 = (i + 1) * double(w) / cells, y1 = (j + 1) * double(h) / cells;
-            double e = poolDraws * (x1 - x0) * (y1 - y0) / (w * h);
-            for (const auto& m : population.members())
-                for (int k = 0; k < 3; ++k)
-                    e += s.mutations * m.alpha[size_t(k)] *
-                         diskCellArea(m.position, s.radii[size_t(k)], x0, y0, x1, y1) /
-                         m.area[size_t(k)];
-            expected[j * cells + i] = e;
-            integral += e;
-        }
-    EXPECT_NEAR(integral, draws, 1e-9 * draws);
-    PositionPool pool(w, h);
+    EXPECT_NEAR(total, pool * w * h + 12.0 * s.mutations, 1e-9);
     const int steps = 300;
+    std::vector<double> observed(size_t(w * h), 0.0), expected(size_t(w * h), 0.0);
     for (int t = 0; t < steps; ++t) {
         std::vector<PositionDraw> out;
         population.drawMutations(rng, out);
-        for (const glm::dvec2& p : pool.next(poolDraws, rng)) out.push_back({p, PositionDraw::kPool, 0});
-        for (const auto& d : out)
-            observed[int(d.position.y / h * cells) * cells + int(d.position.x / w * cells)] += 1.0;
+        ASSERT_EQ(out.size(), 12u * s.mutations);
+        for (const auto& d : out) observed[d.pixel] += 1.0;
     }
-    for (double& e : expected) e *= steps;
+    for (size_t p = 0; p < q.size(); ++p) expected[p] = steps * (q[p] - pool);
     const Chi2Result chi2 = chi2Test(observed, expected);
     EXPECT_GT(chi2.pValue, 0.001) << chi2.describe();
 }

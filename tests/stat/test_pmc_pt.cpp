@@ -16,8 +16,8 @@ namespace {
 
 class PmcPtTest : public GpuTest {};
 
-// Small images: a population of 24 members, adapting after every other step, radii scaled to
-// the image so that all three are used.
+// Small images: a population of 24 members, one pool eye path per pixel per step, adapting
+// after every other step, radii scaled to the image so that all three are used.
 RenderSettings pmcPtSettings(int size, uint32_t spp) {
     RenderSettings s;
     s.method = "pmc-pt";
@@ -28,6 +28,7 @@ RenderSettings pmcPtSettings(int size, uint32_t spp) {
     s.options["population"] = "24";
     s.options["mutations"] = "8";
     s.options["radii"] = "1.5,3,8";
+    s.options["pool-spp"] = "1";
     s.options["adapt-every"] = "2";
     return s;
 }
@@ -50,7 +51,9 @@ TEST_F(PmcPtTest, TakesTheEyePathsAskedForAndWritesItsDiagnostics) {
     const auto& m = r.stats["method_stats"];
     const uint64_t perStep = m["eye_paths_per_step"].get<uint64_t>();
     const uint64_t steps = m["resample_steps"].get<uint64_t>();
-    EXPECT_EQ(r.output.cameraSamples, perStep * steps);
+    const uint64_t first = m["first_step_eye_paths"].get<uint64_t>();
+    EXPECT_EQ(first % (32 * 32), 0u);  // the first step is the pool's alone, whole spp
+    EXPECT_EQ(r.output.cameraSamples, first + perStep * (steps - 1));
     EXPECT_NEAR(r.output.samplesPerPixel, 8.0, 0.5 * double(perStep) / (32.0 * 32.0));
     ASSERT_EQ(r.output.diagnostics.size(), 2u);
     EXPECT_EQ(r.output.diagnostics[0].first, "strategy");
@@ -139,6 +142,7 @@ BiasEvidence measureBias(const RenderSettings& pmc, int pmcRenders, const ImageM
 TEST_F(PmcPtTest, DISABLED_MeasurePlainAverageBias) {
     const int renders = 100;
     RenderSettings s = pmcPtSettings(24, 16);
+    s.options.erase("population");
     s.options["defensive"] = "0.1";  // the adaptive part at its strongest
     const ImageMoments pt = pathTracedMoments(s, 32, 256);
     // Control: path tracing itself at the same budget (a heavy-tailed pixel's z is skewed).
@@ -157,9 +161,11 @@ TEST_F(PmcPtTest, UnbiasedAgainstPathTracing) {
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
-// A tenth of the eye paths defensive: the density follows the population most closely.
+// A tenth of the eye paths defensive (a population of 648): the density follows the population
+// most closely.
 TEST_F(PmcPtTest, UnbiasedAgainstPathTracingWithLittleDefensiveSampling) {
     RenderSettings s = pmcPtSettings(24, 16);
+    s.options.erase("population");
     s.options["defensive"] = "0.1";
     const auto result = zTestAgainstPathTracing(s, 40, 16);
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
