@@ -103,7 +103,7 @@ const std::vector<MethodInfo>& methods() {
           {"resample-rate", "0.4", "share of the population replaced per step (half pool, half beta)"},
           {"epsilon", "0.01", "floor of the alpha weights"},
           {"defensive", "0.5", "share of each step's eye paths from the stratified pool (uniform)"},
-          {"estimator", "weighted", "weighted (D-kernel, unbiased) or average (the paper's; biased)", true}},
+          {"estimator", "steps", "steps: the average of each step's per-pixel averages (unbiased); average: the paper's per-pixel average over all steps", true}},
          [](const RenderSettings& s) { return std::make_unique<PmcPt>(s); }, ""},
     };
     return list;

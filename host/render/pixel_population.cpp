@@ -277,37 +277,4 @@ ResampleCounts PixelPopulation::resample(Pcg32& rng, const std::vector<glm::dvec
     return counts;
 }
 
-std::vector<double> PixelPopulation::expectedDraws(double poolPerPixel) const {
-    // Each disk row adds TR alpha_ik / area_ik to a run of pixels: +v at its first pixel and -v
-    // past its last in a difference image, then running sums along each row.
-    const size_t w = size_t(m_width), stride = w + 1;  // a row's "past its last" slot included
-    std::vector<double> diff(stride * size_t(m_height), 0.0);
-    const double tr = double(m_settings.mutations);
-    for (const PopulationMember& m : m_members)
-        for (int c = 0; c < components(); ++c) {
-            if (!(m.area[size_t(c)] > 0.0)) continue;
-            const double v = tr * m.alpha[size_t(c)] / m.area[size_t(c)];
-            const double r = m_settings.radii[size_t(c)];
-            const int R = int(std::floor(r));
-            for (int dy = -R; dy <= R; ++dy) {
-                const int y = m.pixel.y + dy;
-                if (y < 0 || y >= m_height) continue;
-                const int hw = pixelDiskHalfWidth(dy, r);
-                const int x0 = std::max(0, m.pixel.x - hw), x1 = std::min(m_width - 1, m.pixel.x + hw);
-                if (x1 < x0) continue;
-                diff[size_t(y) * stride + size_t(x0)] += v;
-                diff[size_t(y) * stride + size_t(x1) + 1] -= v;
-            }
-        }
-    std::vector<double> q(w * size_t(m_height));
-    for (int y = 0; y < m_height; ++y) {
-        double run = 0.0;
-        for (size_t x = 0; x < w; ++x) {
-            run += diff[size_t(y) * stride + x];
-            q[size_t(y) * w + x] = poolPerPixel + run;
-        }
-    }
-    return q;
-}
-
 }  // namespace pmcr

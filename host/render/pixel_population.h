@@ -154,7 +154,8 @@ public:
     // (systematic sampling over the alpha CDF: mutation t takes u = (t + U) / TR, so each
     // component's expected count is exactly TR alpha_k), then a uniform pixel of the pixel disk
     // of radius d_k around the member. All of a step's mutations start from the member's pixel
-    // at the start of the step, so the step's expected counts are known (expectedDraws).
+    // at the start of the step, so the step's expected counts are known:
+    //   E[draws in pixel p] = sum_i sum_k TR alpha_ik 1[p in pixel disk k of i] / area_ik.
     // Appends member by member, in order.
     void drawMutations(Pcg32& rng, std::vector<PositionDraw>& out) const;
     // Tags a mutation's luminance with its member and component (sec. 4.3.1, 4.3.3).
@@ -178,10 +179,6 @@ public:
     // A member at the pixel containing raster `position`, with uniform alpha and no history.
     PopulationMember makeMember(glm::dvec2 position) const;
 
-    // The step's expected number of draws in each pixel (the discrete proposal density):
-    //   Q_p = poolPerPixel + sum_i sum_k TR alpha_ik 1[p in pixel disk k of i] / area_ik,
-    // by row spans and running sums, so it costs the rows of the disks, not their pixels.
-    std::vector<double> expectedDraws(double poolPerPixel) const;
 
 private:
     PopulationSettings m_settings;

@@ -58,9 +58,9 @@ PmcPtOptions PmcPtOptions::fromSettings(const RenderSettings& s) {
         throw Error("--resample-rate: expected a share of the population, 0..1");
     o.epsilon = s.optionDouble("epsilon", o.epsilon);
     if (!(o.epsilon >= 0.0 && o.epsilon < 1.0)) throw Error("--epsilon: expected 0 <= epsilon < 1");
-    const std::string estimator = s.optionString("estimator", "weighted");
-    if (estimator != "weighted" && estimator != "average")
-        throw Error("--estimator: expected weighted or average, got '" + estimator + "'");
+    const std::string estimator = s.optionString("estimator", "steps");
+    if (estimator != "steps" && estimator != "average")
+        throw Error("--estimator: expected steps or average, got '" + estimator + "'");
     o.plainAverage = estimator == "average";
     o.defensive = s.optionDouble("defensive", o.defensive);
     if (!(o.defensive > 0.0 && o.defensive < 1.0))
@@ -99,9 +99,6 @@ RenderOutput PmcPt::render(RenderSession& session) {
         throw Error("pmc-pt: --population times --mutations is too large");
     // --spp N: N eye paths per pixel on average in all, in whole steps of equal size (the step
     // count is fixed in advance, so the steps' weights are deterministic).
-    // Every step draws about drawsPerStep; the first is the pool's alone, firstSpp per pixel.
-    const uint32_t firstSpp =
-        uint32_t(std::max<uint64_t>(1, (drawsPerStep + pixels / 2) / pixels));
     auto stepsFor = [&](double spp) {
         return std::max<uint64_t>(1, uint64_t(std::llround(spp * double(pixels) /
                                                            double(drawsPerStep))));
@@ -197,7 +194,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
 
     // Per pixel: the weighted estimator's sum over steps of I_t, the plain sums, the luminance
     // statistics beta needs, and the strategy counts.
-    std::vector<glm::dvec3> weightedSum(pixels, glm::dvec3(0.0));
+    std::vector<glm::dvec3> stepSum(pixels, glm::dvec3(0.0));
     std::vector<glm::dvec3> plainSum(pixels, glm::dvec3(0.0));
     std::vector<RunningStats> pixelLuminance(pixels);
     std::vector<std::array<uint32_t, kMaxPopulationRadii>> strategy(pixels, {0u, 0u, 0u});
@@ -209,7 +206,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             return pixelLuminance[p].count > 0 ? plainSum[p] / double(pixelLuminance[p].count)
                                                : glm::dvec3(0.0);
         // The steps' average: equal weights, which depend only on the number of steps.
-        return steps > 0 ? weightedSum[p] / double(steps) : glm::dvec3(0.0);
+        return steps > 0 ? stepSum[p] / double(steps) : glm::dvec3(0.0);
     };
     auto resolve = [&] {
         Image image(width, height);
@@ -225,7 +222,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     std::vector<PositionDraw> draws;
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
-    std::vector<uint32_t> count(pixels), first(pixels), drawOf;
+    std::vector<uint32_t> count(pixels), first(pixels), next(pixels), drawOf;
     double hostSeconds = 0.0;  // population, densities and reduction: the method's own overhead
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -240,18 +237,12 @@ RenderOutput PmcPt::render(RenderSession& session) {
     session.startClock();
     while (steps < stepLimit && !session.shouldStop()) {
         // The step's draws: every member's TR mutations (pixels), then poolSpp pool draws in
-        // every pixel, and their expected counts Q_p, known before any of them is traced.
+        // every pixel. How many land in each pixel depends on the past and the host's random
+        // numbers only, never on this step's radiance values.
         auto hostStart = std::chrono::steady_clock::now();
         draws.clear();
-        // The first step is the pool's alone: every pixel gets exactly poolSpp samples, so the
-        // control variates of the next step come from real samples (and beta from the image).
-        const bool poolOnly = steps == 0;
-        if (!poolOnly) population.drawMutations(rng, draws);
-        const std::vector<double> expected =
-            poolOnly ? std::vector<double>(pixels, double(firstSpp))
-                     : population.expectedDraws(double(poolSpp));
-        std::fill(count.begin(), count.end(), poolOnly ? firstSpp : poolSpp);  // then the members'
-
+        population.drawMutations(rng, draws);
+        std::fill(count.begin(), count.end(), poolSpp);
         for (const PositionDraw& d : draws) ++count[d.pixel];
         // Pixel p's samples are points 0 .. count_p - 1 of its sequence, scrambled afresh for the
         // step (the step's seed): the pool draws first, then the members' in draw order.
@@ -262,10 +253,8 @@ RenderOutput PmcPt::render(RenderSession& session) {
         }
         requests.resize(total);
         drawOf.assign(total, PositionDraw::kPool);
-        std::vector<uint32_t> fill(pixels);
-        const uint32_t stepPoolSpp = poolOnly ? firstSpp : poolSpp;
-        for (uint32_t p = 0; p < pixels; ++p) fill[p] = first[p] + stepPoolSpp;
-        for (uint32_t j = 0; j < draws.size(); ++j) drawOf[fill[draws[j].pixel]++] = j;
+        for (uint32_t p = 0; p < pixels; ++p) next[p] = first[p] + poolSpp;
+        for (uint32_t j = 0; j < draws.size(); ++j) drawOf[next[draws[j].pixel]++] = j;
         for (uint32_t p : mortonPixels)
             for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
         push.seed = stepSeeds.nextUint();
@@ -273,21 +262,13 @@ RenderOutput PmcPt::render(RenderSession& session) {
         if (!trace(requests, results)) break;  // an unfinished step is dropped whole
         hostStart = std::chrono::steady_clock::now();
 
-        // Reduce pixel by pixel: I_t(p) = c + sum over its samples of (L - c) / Q_p, with c the
-        // plain average of the pixel's earlier samples (see the header; the image's while it has
-        // none), the plain sums, the tagged luminances and the strategy counts.
-        glm::dvec3 imageSum(0.0);
-        for (uint32_t p = 0; p < pixels; ++p) imageSum += plainSum[p];
-        const glm::dvec3 imageMean = samples > 0 ? imageSum / double(samples) : glm::dvec3(0.0);
+        // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
+        // in p (see the header), the plain sums, the tagged luminances and the strategy counts.
         for (uint32_t p = 0; p < pixels; ++p) {
-            const uint32_t n = pixelLuminance[p].count;
-            const glm::dvec3 c = n > 0 ? plainSum[p] / double(n) : imageMean;
             glm::dvec3 sum(0.0);
             for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
                 const glm::vec4 r = results[i];
-                const glm::dvec3 radiance(r.x, r.y, r.z);
-                sum += radiance;
-                weightedSum[p] += (radiance - c) / expected[p];
+                sum += glm::dvec3(r.x, r.y, r.z);
                 pixelLuminance[p].add(r.w);
                 const uint32_t j = drawOf[i];
                 if (j != PositionDraw::kPool) {
@@ -295,7 +276,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
                     ++strategy[p][draws[j].component];
                 }
             }
-            weightedSum[p] += c;
+            stepSum[p] += sum / double(count[p]);
             plainSum[p] += sum;
         }
         // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
@@ -303,11 +284,11 @@ RenderOutput PmcPt::render(RenderSession& session) {
             pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
         samples += total;
         ++steps;
-        if (!poolOnly) population.endStep();
+        population.endStep();
 
         // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
         if (steps == 1 || steps % o.adaptEvery == 0) {
-            if (!poolOnly) population.adapt();
+            population.adapt();
             std::vector<double> luminance(pixels);
             for (uint32_t p = 0; p < pixels; ++p) {
                 const glm::dvec3 v = estimate(p);
@@ -316,12 +297,10 @@ RenderOutput PmcPt::render(RenderSession& session) {
             importance.update(pixelLuminance, luminance);
             ++adaptations;
         }
-        if (!poolOnly) {
-            const ResampleCounts c = population.resample(rng, poolPositions, importance);
-            resampled.eliminated += c.eliminated;
-            resampled.fromPool += c.fromPool;
-            resampled.fromImportance += c.fromImportance;
-        }
+        const ResampleCounts c = population.resample(rng, poolPositions, importance);
+        resampled.eliminated += c.eliminated;
+        resampled.fromPool += c.fromPool;
+        resampled.fromImportance += c.fromImportance;
         hostSeconds += since(hostStart);
 
         const double sppDone = double(samples) / double(pixels);
@@ -360,12 +339,11 @@ RenderOutput PmcPt::render(RenderSession& session) {
         radii.push_back(o.radii[size_t(c)]);
     }
     out.methodStats = {
-        {"estimator", o.plainAverage ? "average (biased)" : "weighted (D-kernel, unbiased)"},
+        {"estimator", o.plainAverage ? "average (biased)" : "steps (average of step averages, unbiased)"},
         {"population", ps.size},
         {"mutations", ps.mutations},
         {"radii", radii},
         {"pool_spp", poolSpp},
-        {"first_step_eye_paths", uint64_t(firstSpp) * pixels},
         {"eye_paths_per_step", drawsPerStep},
         {"resample_steps", steps},
         {"adaptations", adaptations},

@@ -11,41 +11,43 @@
 // pixel of the member's pixel disk, and where inside the pixel comes from the pixel's own
 // stratified sequence. In step t pixel p gets poolSpp pool samples plus the members' mutations
 // that landed there, n_p in all, and they are points 0 .. n_p - 1 of p's (0,2)-sequence with a
-// scramble of the step's own: a stratified set, as path tracing's samples are. That is what
+// scramble of the step's own: a stratified set, as path tracing's samples are (render seeds
+// and step seeds come from one PCG generator per render). That is what
 // makes PMC-PT competitive at all: with independent positions and random numbers per sample it
 // had the error of unstratified sampling, 22% above pt's perceptual error on cornell-glass
 // 128x128 at 64 eye paths (1.57e-3 Err against pt's 1.00e-3; pt's own renders merged from 64
 // independent 1-spp renders: 1.49e-3).
 //
-// The estimator. The paper averages the samples that land in each pixel and calls that
+// The estimator. The paper averages all the samples that land in each pixel and calls that
 // unbiased. It is not, in general: where the samples go depends on earlier radiance values
-// (beta, elimination, alpha), so a pixel's sample count is correlated with its values (measured
-// below). The default here is the D-kernel PMC estimator (the paper's eq. 1; Douc, Guillin,
-// Marin and Robert 2007) in its deterministic-mixture form over pixels. Given the past, step t's
-// expected number of samples in pixel p is
-//     Q_p = poolSpp + sum_i sum_k TR alpha_ik 1[p in pixel disk k of member i] / |disk_ik|,
-// and given n_p the samples are uniform over the pixel (each point of a scrambled sequence is),
-// so with c fixed before the step
-//     I_t(p) = c + sum over the step's samples x in p of (L(x) - c) / Q_p
-// has E[I_t | past] = c + E[n_p | past] (I_p - c) / Q_p = I_p, the pixel value, as long as
-// Q_p > 0: hence the pool samples in every pixel of every step (`--defensive` share), which also
-// bound the weights 1 / Q_p by 1 / poolSpp. c is a control variate, the plain average of the
-// pixel's earlier samples: without it the estimate would swing with the number of samples the
-// pixel happens to get. For c to be real samples from the start, the first step is the pool's
-// alone, the size of the others (every pixel the same count, where I_t is the plain average).
-// The image averages the steps with equal weights. "Given the past" also needs each step's
-// random numbers to be independent of the earlier steps', hence the fresh scramble per step.
+// (beta, elimination, alpha), so how many samples a pixel gets in later steps is correlated with
+// the values of its earlier ones (measured below). Within one step there is no such problem:
+// which pixels the step's n_p samples go to is decided before any of them is traced (by the past
+// and the host's random numbers), and given n_p they are points of a freshly scrambled sequence,
+// each uniform over the pixel. So the step's plain average I_t(p) = (1/n_p) sum L(x_i) has
+// E[I_t(p) | past] = I_p, the pixel value (n_p >= poolSpp >= 1: the pool samples keep every
+// pixel covered), and the image is the average of the steps' I_t with equal weights, which
+// depend only on the number of steps: unbiased. It gives up the paper's weighting of steps by
+// their sample counts, which costs little where the counts vary slowly from step to step.
+// "Given the past" also needs each step's random numbers to be independent of the earlier
+// steps', hence the fresh scramble per step. (A first version weighted each sample by the
+// inverse of its expected count, the D-kernel estimator of the paper's eq. 1, with a control
+// variate; it had the same error on cornell-glass and cornell-specular, but the control variate
+// carried rare very bright paths from step to step, and room came out worse.)
 //
-// Measured (tests/stat/test_pmc_pt.cpp, DISABLED_MeasurePlainAverageBias, with the continuous
-// kernel of the first version: cornell-glass 24x24, 100 renders of 16 eye paths per pixel
-// against 32 pt renders of 256, adapting every 2 steps, --defensive 0.1): the weighted estimator
-// passes the per-pixel z-test on 100% of pixels (sum of z^2 780 over 576 pixels; pt itself, the
-// control, 853: heavy tails inflate it), the plain average `--estimator average` on 99.13% (5
-// pixels fail; sum of z^2 1142), below the 99.75% an unbiased method passes. So the paper's
-// average is biased and labelled so; the weighted estimator is the default.
+// Measured (tests/stat/test_pmc_pt.cpp, DISABLED_MeasurePlainAverageBias: cornell-glass 24x24,
+// 100 renders of 16 eye paths per pixel against 32 pt renders of 256, adapting every 2 steps,
+// --defensive 0.1). With the first version's continuous disks and independent samples, the
+// unbiased estimator passed the per-pixel z-test on 100% of pixels (sum of z^2 780 over 576
+// pixels; pt itself, the control, 853: heavy tails inflate it) and the paper's plain average
+// `--estimator average` on 99.13% (5 pixels fail; sum of z^2 1142), below the 99.75% an unbiased
+// method passes. With the kernel here both pass on 100% (sums of z^2 756 for the step average,
+// 757 for the plain average): the stratified steps leave the counts too little room to show the
+// bias at this power. The argument above still holds, so the plain average stays labelled biased
+// and is not the default.
 //
-// Other departures from the paper, each so that the step's counts are known and positive: a
-// step's TR mutations of a member all start from the member's pixel (members move by
+// Other departures from the paper, each so that the step's counts do not depend on its values
+// and are positive: a step's TR mutations of a member all start from the member's pixel (members move by
 // resampling), their radii are chosen systematically (about TR alpha_k each), the pool samples
 // are an addition, and the steps are larger (pool 4 spp plus as many member samples: about 30
 // times the paper's 5000 x 16 eye paths at 640x480), so alpha and beta adapt after every step.
@@ -67,6 +69,7 @@ struct PmcPtOptions {
     double defensive = 0.5;         // share of a step's eye paths drawn from the pool (sets
                                     // the population unless --population is given)
     bool plainAverage = false;      // --estimator average: the paper's per-pixel average (biased)
+                                    // instead of the average of step averages
 
     static PmcPtOptions fromSettings(const RenderSettings& settings);
     // Members for an image of `pixels` pixels.
