@@ -192,7 +192,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     PixelImportance importance;
     const int k = population.components();
 
-    // Per pixel: the weighted estimator's sum over steps of I_t, the plain sums, the luminance
+    // Per pixel: the sum over steps of the step averages I_t, the plain sums, the luminance
     // statistics beta needs, and the strategy counts.
     std::vector<glm::dvec3> stepSum(pixels, glm::dvec3(0.0));
     std::vector<glm::dvec3> plainSum(pixels, glm::dvec3(0.0));
@@ -223,7 +223,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
     std::vector<uint32_t> count(pixels), first(pixels), next(pixels), drawOf;
-    double hostSeconds = 0.0;  // population, densities and reduction: the method's own overhead
+    double hostSeconds = 0.0;  // population, requests and reduction: the method's own overhead
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
