@@ -38,5 +38,10 @@ struct PmcErPush {
     float lensThetaMax;
     uint birth;              // PMC_ER_BIRTH_*
     float birthEnergy;       // Q, units of e_d (PMC_ER_BIRTH_EQUAL)
+    uint flags;              // ERPT_FLAG_DEPOSIT_DIRECT (shared/chain_types.h): seed
+                             // paths with at most one scattering vertex go to their own pixel
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
-PMCR_CHECK_SIZE(PmcErPush, 64);
+PMCR_CHECK_SIZE(PmcErPush, 80);
