@@ -51,6 +51,11 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     const int refill = s.optionInt("refill-rounds", int(o.refillRounds));
     if (refill < 1 || refill > 64) throw Error("--refill-rounds: expected 1..64");
     o.refillRounds = uint32_t(refill);
+    const std::string lifetime = s.optionString("lifetime", "auto");
+    if (lifetime != "auto") {
+        o.lifetime = s.optionDouble("lifetime", 0.0);
+        if (!(o.lifetime >= 1.0 && o.lifetime <= 1e6)) throw Error("--lifetime: expected auto or 1..1e6 mutations");
+    }
     const std::string redistribute = s.optionString("redistribute", "indirect");
     if (redistribute == "indirect") o.depositDirect = true;
     else if (redistribute == "all") o.depositDirect = false;
@@ -149,7 +154,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
 
     gpu::PtPush ptPush{};
-    ptPush.source = gpu::PT_SOURCE_POINTS;
+    ptPush.source = gpu::PT_SOURCE_LIST;
     ptPush.flags = 0;  // records only: the paths reach the image through their members
     ptPush.seed = settings.seed;
     ptPush.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
@@ -162,13 +167,15 @@ RenderOutput PmcEr::render(RenderSession& session) {
     for (int k = 0; k < components; ++k) push.radii[k] = float(o.radii[size_t(k)]);
     push.causticProbability = o.causticProbability;
     push.birth = o.birth;
-    // Q: the mean energy of a pool path (units of e_d), the mutations a member makes on average.
-    push.birthEnergy = float(mutationsPerPass / double(poolPerPass));
+    // Q: a member's lifetime in mutations (units of e_d); by default the mean energy of a pool
+    // path, the mutations a member makes on average. Like ERPT's chain length it does not change
+    // the expected deposits, only how far each member carries them.
+    push.birthEnergy = o.lifetime > 0.0 ? float(o.lifetime) : float(mutationsPerPass / double(poolPerPass));
     push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
     push.lensThetaMax = 0.1f;
     push.flags = o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u;
 
-    uint64_t poolUsed = 0, mutationsRun = 0, eliminated = 0, iterationsRun = 0;
+    uint64_t mutationsRun = 0, eliminated = 0, iterationsRun = 0;
     double remainderEnergy = 0.0;  // deposited at the passes' ends, in units of e_d
     double drainedEnergy = 0.0;    // held by the population when the passes' drains started
     std::vector<double> alphaSum(size_t(components), 0.0);
@@ -203,17 +210,22 @@ RenderOutput PmcEr::render(RenderSession& session) {
     uint32_t seedDispatches = 0;  // in this pass: keeps the seed kernel's random numbers apart
     auto regenerate = [&](StratifiedPixelPool& pool, const std::vector<uint32_t>& slots, uint32_t pass) {
         for (size_t first = 0; first < slots.size() && pool.remaining() > 0; first += recordCapacity) {
-            const std::vector<glm::dvec2> positions =
+            std::vector<PoolSample> samples =
                 pool.next(uint32_t(std::min<size_t>(recordCapacity, slots.size() - first)));
-            const uint32_t n = uint32_t(positions.size());
+            const uint32_t n = uint32_t(samples.size());
+            // Traced in pixel order: neighbouring invocations trace neighbouring rays (the pool's
+            // order spreads them over the image, which made tracing twice as slow on lavapipe).
+            // Which slot a path fills does not matter.
+            std::sort(samples.begin(), samples.end(), [](const PoolSample& x, const PoolSample& y) {
+                return x.pixel != y.pixel ? x.pixel < y.pixel : x.sampleIndex < y.sampleIndex;
+            });
+            // The pixel's own sampler sequence places the position and drives the path.
             std::vector<gpu::SampleRequest> req(n);
             for (uint32_t i = 0; i < n; ++i) {
-                req[i].raster = glm::vec2(positions[i]);
-                // A sampler sequence of its own for every path of the render.
-                req[i].pixel = uint32_t(poolUsed + i);
-                req[i].sampleIndex = uint32_t((poolUsed + i) >> 32);
+                req[i].pixel = samples[i].pixel;
+                req[i].sampleIndex = samples[i].sampleIndex;
+                req[i].raster = glm::vec2(0.0f);
             }
-            poolUsed += n;
             flush();
             requests.upload(req.data(), n * sizeof(gpu::SampleRequest));
             seedSlots.upload(slots.data() + first, n * sizeof(uint32_t));
@@ -278,7 +290,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
         for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
             Pcg32 rng(settings.seed, 0x9e3779b97f4a7c15ULL + pass);
-            StratifiedPixelPool pool(width, height, rounds, rng);
+            StratifiedPixelPool pool(width, height, rounds, pass * rounds, rng);
             std::vector<uint32_t> all(population);
             for (uint32_t i = 0; i < population; ++i) all[i] = i;
             seedDispatches = 0;

@@ -1,7 +1,6 @@
 #include "render/stratified_pixel_pool.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "core/error.h"
 
@@ -34,13 +33,11 @@ uint64_t reverseBits(uint64_t v, int bits) {
 
 }  // namespace
 
-StratifiedPixelPool::StratifiedPixelPool(int width, int height, uint32_t rounds, Pcg32& rng)
-    : m_width(width), m_height(height), m_rounds(rounds), m_rng(rng.nextUint(), rng.nextUint()) {
+StratifiedPixelPool::StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng)
+    : m_width(width), m_height(height), m_rounds(rounds), m_firstSample(firstSample), m_rng(rng.nextUint(), rng.nextUint()) {
     if (width < 1 || height < 1 || rounds < 1) throw Error("stratified pixel pool: empty");
     m_bitsX = bitsFor(width);
     m_bitsY = bitsFor(height);
-    m_rotation.resize(size_t(width) * size_t(height));
-    for (auto& r : m_rotation) r = glm::vec2(float(m_rng.nextDouble()), float(m_rng.nextDouble()));
     m_shift = {int(m_rng.nextBelow(uint32_t(width))), int(m_rng.nextBelow(uint32_t(height)))};
 }
 
@@ -58,29 +55,17 @@ bool StratifiedPixelPool::advance() {
     }
 }
 
-std::vector<glm::dvec2> StratifiedPixelPool::next(uint32_t count) {
-    // R2: x_n = frac(n / g, n / g^2), g the plastic number (root of g^3 = g + 1).
-    constexpr double g = 1.32471795724474602596;
-    constexpr double a1 = 1.0 / g, a2 = 1.0 / (g * g);
-    std::vector<glm::dvec2> positions;
-    positions.reserve(size_t(std::min<uint64_t>(count, remaining())));
-    while (positions.size() < count && advance()) {
+std::vector<PoolSample> StratifiedPixelPool::next(uint32_t count) {
+    std::vector<PoolSample> samples;
+    samples.reserve(size_t(std::min<uint64_t>(count, remaining())));
+    while (samples.size() < count && advance()) {
         const glm::ivec2 c = demorton(reverseBits(m_code, m_bitsX + m_bitsY), m_bitsX, m_bitsY);
         ++m_code;
         const int x = (c.x + m_shift.x) % m_width, y = (c.y + m_shift.y) % m_height;
-        const glm::vec2 r = m_rotation[size_t(y) * size_t(m_width) + size_t(x)];
-        const double n = double(m_round);
-        const double u = std::fmod(0.5 + a1 * n + double(r.x), 1.0);
-        const double v = std::fmod(0.5 + a2 * n + double(r.y), 1.0);
-        // In float (as the device reads them), kept inside the pixel by rounding down.
-        auto inside = [](int cell, double offset) {
-            const float f = float(cell) + float(offset);
-            return double(std::min(f, std::nextafter(float(cell + 1), 0.0f)));
-        };
-        positions.emplace_back(inside(x, u), inside(y, v));
+        samples.push_back({uint32_t(y) * uint32_t(m_width) + uint32_t(x), m_firstSample + m_round});
         ++m_used;
     }
-    return positions;
+    return samples;
 }
 
 }  // namespace pmcr

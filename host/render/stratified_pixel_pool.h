@@ -6,10 +6,11 @@
 // Within a round the pixels come in bit-reversed Morton order (the Z-order curve of the smallest
 // power-of-two grid that holds the image, its index bits reversed; pixels outside the image are
 // skipped) under a random toroidal shift of the image per round: any run of consecutive positions
-// is spread evenly over the image, as the paper's regeneration wants. Within a pixel, round j
-// takes point j of the R2 sequence (Roberts 2018) under a Cranley-Patterson rotation of the
-// pixel's own: each position is uniform over its pixel, and a pixel's positions are stratified
-// among themselves.
+// is spread evenly over the image, as the paper's regeneration wants. Within a pixel, the
+// position is the path tracer's: sample `firstSample + round` of the pixel's own sampler
+// sequence (shaders/common/sampler.glsl, PT_SOURCE_LIST), so that all the positions a pixel gets
+// over a render are one stratified sequence, as path tracing's samples are (an independent
+// jitter per pass left the coverage of the light's edge pixels 30 times noisier than `pt`'s).
 //
 // Why per pixel: a path-traced position then contributes to its own pixel exactly as a
 // `rounds`-spp path tracer's sample does, so the seed paths PMC-ER deposits at their own pixel
@@ -27,15 +28,21 @@
 
 namespace pmcr {
 
+struct PoolSample {
+    uint32_t pixel;        // linear pixel index
+    uint32_t sampleIndex;  // in the pixel's sampler sequence
+};
+
 class StratifiedPixelPool {
 public:
-    StratifiedPixelPool(int width, int height, uint32_t rounds, Pcg32& rng);
+    // Samples firstSample .. firstSample + rounds - 1 of every pixel.
+    StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng);
 
     uint64_t size() const { return uint64_t(m_rounds) * uint64_t(m_width) * uint64_t(m_height); }
     uint64_t used() const { return m_used; }
     uint64_t remaining() const { return size() - m_used; }
-    // The next min(count, remaining()) positions (raster coordinates in pixels).
-    std::vector<glm::dvec2> next(uint32_t count);
+    // The next min(count, remaining()) samples.
+    std::vector<PoolSample> next(uint32_t count);
 
 private:
     // Advances m_code (and the round) to the next code of the current round inside the image.
@@ -44,12 +51,12 @@ private:
     int m_width;
     int m_height;
     uint32_t m_rounds;
+    uint32_t m_firstSample;
     Pcg32 m_rng;
     int m_bitsX = 0, m_bitsY = 0;  // the power-of-two grid: 2^bitsX by 2^bitsY
     uint32_t m_round = 0;
     uint64_t m_code = 0;           // next Morton index of the round, before bit reversal
     glm::ivec2 m_shift{0};         // the round's toroidal shift
-    std::vector<glm::vec2> m_rotation;  // per pixel: Cranley-Patterson rotation
     uint64_t m_used = 0;
 };
 
