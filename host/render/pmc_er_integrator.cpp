@@ -51,6 +51,9 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     const int refill = s.optionInt("refill-rounds", int(o.refillRounds));
     if (refill < 1 || refill > 64) throw Error("--refill-rounds: expected 1..64");
     o.refillRounds = uint32_t(refill);
+    const std::string acceptance = s.optionString("acceptance", "component");
+    if (acceptance == "mixture") o.mixtureAcceptance = true;
+    else if (acceptance != "component") throw Error("--acceptance: expected mixture or component, got '" + acceptance + "'");
     const std::string lifetime = s.optionString("lifetime", "auto");
     if (lifetime != "auto") {
         o.lifetime = s.optionDouble("lifetime", 0.0);
@@ -173,7 +176,8 @@ RenderOutput PmcEr::render(RenderSession& session) {
     push.birthEnergy = o.lifetime > 0.0 ? float(o.lifetime) : float(mutationsPerPass / double(poolPerPass));
     push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
     push.lensThetaMax = 0.1f;
-    push.flags = o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u;
+    push.flags = (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u) |
+                 (o.mixtureAcceptance ? gpu::PMC_ER_FLAG_MIXTURE_ACCEPTANCE : 0u);
 
     uint64_t mutationsRun = 0, eliminated = 0, iterationsRun = 0;
     double remainderEnergy = 0.0;  // deposited at the passes' ends, in units of e_d
@@ -403,6 +407,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
         {"replacements_per_iteration", replacements},
         {"pool_paths_per_pass", poolPerPass},
         {"redistribute", o.depositDirect ? "indirect" : "all"},
+        {"acceptance", o.mixtureAcceptance ? "mixture" : "component"},
         {"mutations_per_member", o.mutations},
         {"birth", o.birth == gpu::PMC_ER_BIRTH_EQUAL ? "equal" : "path"},
         {"birth_energy", push.birthEnergy},
