@@ -35,8 +35,9 @@
 namespace pmcr {
 
 struct PmcErOptions {
-    uint32_t population = 0;         // 0: auto (the paper's 5000 per 640x480 pixels, at least 64)
-    uint32_t mutations = 16;         // per member per iteration (paper: 16-20)
+    uint32_t population = 0;         // 0: auto (one per 4 pixels, at least 64)
+    bool paperPopulation = false;    // --population paper: 5000 per 640x480 pixels, at least 64
+    uint32_t mutations = 1;          // per member per iteration (paper: 16-20; 1 measured best)
     std::vector<double> radii = {5.0, 10.0, 50.0};
     double resampleRate = 0.4;
     double epsilon = 0.1;
@@ -44,7 +45,7 @@ struct PmcErOptions {
     uint32_t passSpp = 4;            // pool positions per pixel per pass (rounds of the pool)
     bool depositDirect = true;       // --redistribute indirect: direct seed paths at their pixel
     bool mixtureAcceptance = false;  // eq. 8 over the radii instead of eq. 9
-    double lifetime = 0.0;           // Q of equal births in mutations; 0: auto (mean path energy)
+    double lifetime = 20.0;          // Q of equal births in mutations; 0: auto (mean path energy)
     uint32_t refillRounds = 8;       // regenerations of slots left empty by a birth without shares
     uint32_t prepassSpp = 4;
     uint32_t stepsPerDispatch = 4;
