@@ -20,10 +20,7 @@ void main() {
         ChainState st = chains[chain];
         Rng rng;
         rng.state = st.rng;
-        AngleSampler angle;
-        angle.thetaMin = push.causticThetaMin;
-        angle.thetaMax = push.causticThetaMax;
-        angle.uniformLaw = false;
+        AngleSampler angle = angleSampler(push.causticThetaMin, push.causticThetaMax, false);
         for (uint s = 0u; s < push.steps; ++s) {
             float a;
             bool caustic;

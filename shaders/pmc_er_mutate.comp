@@ -3,7 +3,8 @@
 // (PMC-ER fig. 2 lines 8-12, equal deposition). Each mutation picks a radius d_k by the member's
 // alpha (eq. 5), then a caustic perturbation with probability gamma_caustic where it applies
 // (angles uniform in [0, thetaMax(d_k)], eq. 6) or a lens perturbation in the disk of radius
-// d_k, is accepted with that component's own transition density (eq. 9, Tierney 1998), and
+// d_k, is accepted with that component's own transition density (eq. 9, Tierney 1998; with
+// PMC_ER_FLAG_MIXTURE_ACCEPTANCE, with the density of the mixture over the radii, eq. 8), and
 // `shares` e_d are deposited at the (new) current path's pixel with its colour
 // (common/erpt_chain.glsl).
 //
@@ -53,11 +54,11 @@ void main() {
             ChainState st = chains[member];
             Rng rng;
             rng.state = st.rng;
-            AngleSampler lensAngle;
-            lensAngle.thetaMin = push.lensThetaMin;
-            lensAngle.thetaMax = push.lensThetaMax;
-            lensAngle.uniformLaw = false;
+            AngleSampler lensAngle = angleSampler(push.lensThetaMin, push.lensThetaMax, false);
             float perPixel = thetaPerPixel();
+            // theta(d_k) of every radius, eq. 6.
+            vec3 thetas = push.radii * perPixel;
+            bool mixture = (push.flags & PMC_ER_FLAG_MIXTURE_ACCEPTANCE) != 0u;
             for (uint s = 0u; s < push.steps && m.remaining > 0.0; ++s) {
                 // Russian roulette on the last, partial deposit.
                 if (m.remaining < 1.0) {
@@ -69,10 +70,12 @@ void main() {
                 }
                 uint k = chooseComponent(m.alpha, rngNext(rng));
                 atomicAdd(strategy[rasterPixel(st.raster) * PMC_ER_MAX_RADII + k], 1u);
-                AngleSampler causticAngle;
-                causticAngle.thetaMin = 0.0;
-                causticAngle.thetaMax = push.radii[k] * perPixel;  // theta(d), eq. 6
-                causticAngle.uniformLaw = true;
+                AngleSampler causticAngle = angleSampler(0.0, thetas[k], true);
+                if (mixture) {
+                    causticAngle.mixtureCount = push.componentCount;
+                    causticAngle.mixtureWeights = m.alpha;
+                    causticAngle.mixtureThetas = thetas;
+                }
                 float a;
                 bool caustic;
                 chainStep(member, st, rng, MUTATION_MIX, push.causticProbability, push.radii[k],

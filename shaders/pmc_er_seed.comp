@@ -4,6 +4,11 @@
 // with probability lum(c_s) / sum_s lum(c_s), carrying the whole sample's energy
 // E = seedScale * sum_s lum(c_s) (PMC-ER eq. 2, in units of e_d). In expectation path s then
 // carries lum(c_s) seedScale, the energy it would carry on its own (as ERPT's chain counts do).
+// With ERPT_FLAG_DEPOSIT_DIRECT (--redistribute indirect) the direct seed paths
+// (common/seed_paths.glsl isDirectSeed) are deposited at the sample's pixel instead, as path
+// tracing would, and the member is made of the others: unbiased term by term (ERPT sec. 3.2),
+// and with the per-pixel stratified pool (host/render/stratified_pixel_pool.h) the direct part
+// is exactly a path tracer's.
 // Equal births (the default) give every member the same E_remain = Q and n = floor(U + E / Q)
 // shares (e_d per deposit), so that no member's lifetime depends on its path; the paper's births
 // give E_remain = E and one share (host/render/path_population.h says why that is biased).
@@ -17,6 +22,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { PmcErPush push; };
 #include "common/path_space.glsl"
 #include "common/seed_paths.glsl"
+#include "common/splat.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_CHAINS, scalar) writeonly buffer ChainBuffer {
     ChainState chains[];
@@ -34,16 +40,24 @@ layout(set = WORK_SET, binding = ERPT_BINDING_ENERGY, scalar) buffer EnergyBuffe
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    float seedEnergy = 0.0;
+    float seedEnergy = 0.0, directEnergy = 0.0;
     if (i < push.memberCount) {
         uint member = seedSlots[i];
         PathRecord rec = records[i];
+        Rng rng = rngCreate(hash3(push.seed ^ 0x9ce2e5u, hashCombine(push.pass, push.iteration), i));
+        bool depositDirect = (push.flags & ERPT_FLAG_DEPOSIT_DIRECT) != 0u;
         float total = 0.0;
         for (uint s = 0u; s < 2u * rec.vertexCount; ++s) {
             vec3 c = seedContribution(rec, s);
-            if (isFinite(c)) total += luminance(c);
+            float y = luminance(c);
+            if (!isFinite(c) || !(y > 0.0)) continue;
+            if (depositDirect && isDirectSeed(s)) {
+                float e = y * push.seedScale;  // units of e_d
+                if (splatDeposit(rec.pixel, c / y, e, rng)) directEnergy += e;
+            } else {
+                total += y;
+            }
         }
-        Rng rng = rngCreate(hash3(push.seed ^ 0x9ce2e5u, hashCombine(push.pass, push.iteration), i));
         PmcErMember m;
         m.remaining = 0.0;
         m.alpha = vec3(push.componentCount > 0u ? 1.0 / float(push.componentCount) : 0.0);
@@ -60,7 +74,7 @@ void main() {
             bool found = false;
             for (uint s = 0u; s < 2u * rec.vertexCount; ++s) {
                 vec3 c = seedContribution(rec, s);
-                if (!isFinite(c) || !(luminance(c) > 0.0)) continue;
+                if (!isFinite(c) || !(luminance(c) > 0.0) || (depositDirect && isDirectSeed(s))) continue;
                 chosen = s;
                 found = true;
                 u -= luminance(c);
@@ -92,4 +106,6 @@ void main() {
     }
     float sum = subgroupAdd(seedEnergy);
     if (subgroupElect() && sum != 0.0) atomicAdd(energy[ENERGY_SEED], sum);
+    float direct = subgroupAdd(directEnergy);
+    if (subgroupElect() && direct != 0.0) atomicAdd(energy[ENERGY_DIRECT], direct);
 }

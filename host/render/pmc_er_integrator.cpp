@@ -13,6 +13,7 @@
 #include "render/redistribution.h"
 #include "render/pixel_population.h"
 #include "render/splat_film.h"
+#include "render/stratified_pixel_pool.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -22,15 +23,22 @@ namespace {
 
 constexpr uint32_t kRecordChunk = 16384;  // new paths traced at once
 constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
+// --population auto: one member per 4 pixels. The paper's 5000 per 640x480 leaves lavapipe's
+// dispatches too small to fill the device; measured on cornell-glass 128x128 at equal time (Eff
+// over ERPT, geometric mean of 2 seeds): the paper's 267 members 0.19, 1024 0.41, 4096 0.50,
+// 16384 0.41 (README, PMC-ER).
+constexpr uint32_t kPixelsPerMember = 4;
 
 }  // namespace
 
 PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     PmcErOptions o;
     const std::string population = s.optionString("population", "auto");
-    if (population != "auto") {
+    if (population == "paper") {
+        o.paperPopulation = true;
+    } else if (population != "auto") {
         const int n = s.optionInt("population", 0);
-        if (n < 1 || n > 4000000) throw Error("--population: expected auto or 1..4000000");
+        if (n < 1 || n > 4000000) throw Error("--population: expected auto, paper or 1..4000000");
         o.population = uint32_t(n);
     }
     const int mutations = s.optionInt("mutations", int(o.mutations));
@@ -44,11 +52,26 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
     if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
         throw Error("--caustic-probability: expected a probability");
-    o.passSpp = s.optionDouble("pass-spp", o.passSpp);
-    if (!(o.passSpp > 0.0 && o.passSpp <= 4096.0)) throw Error("--pass-spp: expected a positive number up to 4096");
-    const int iterations = s.optionInt("iterations", 0);
-    if (iterations < 0 || iterations > 10000000) throw Error("--iterations: expected 0..10000000");
-    o.iterations = uint32_t(iterations);
+    const int passSpp = s.optionInt("pass-spp", int(o.passSpp));
+    if (passSpp < 1 || passSpp > 4096) throw Error("--pass-spp: expected 1..4096");
+    o.passSpp = uint32_t(passSpp);
+    const int refill = s.optionInt("refill-rounds", int(o.refillRounds));
+    if (refill < 1 || refill > 64) throw Error("--refill-rounds: expected 1..64");
+    o.refillRounds = uint32_t(refill);
+    const std::string acceptance = s.optionString("acceptance", "component");
+    if (acceptance == "mixture") o.mixtureAcceptance = true;
+    else if (acceptance != "component") throw Error("--acceptance: expected mixture or component, got '" + acceptance + "'");
+    const std::string lifetime = s.optionString("lifetime", "20");
+    if (lifetime == "auto") {
+        o.lifetime = 0.0;
+    } else {
+        o.lifetime = s.optionDouble("lifetime", o.lifetime);
+        if (!(o.lifetime >= 1.0 && o.lifetime <= 1e6)) throw Error("--lifetime: expected auto or 1..1e6 mutations");
+    }
+    const std::string redistribute = s.optionString("redistribute", "indirect");
+    if (redistribute == "indirect") o.depositDirect = true;
+    else if (redistribute == "all") o.depositDirect = false;
+    else throw Error("--redistribute: expected indirect or all, got '" + redistribute + "'");
     const int prepass = s.optionInt("prepass-spp", int(o.prepassSpp));
     if (prepass < 1 || prepass > 4096) throw Error("--prepass-spp: expected 1..4096");
     o.prepassSpp = uint32_t(prepass);
@@ -71,20 +94,20 @@ RenderOutput PmcEr::render(RenderSession& session) {
     const int width = session.width(), height = session.height();
     const uint32_t pixels = uint32_t(width) * uint32_t(height);
 
-    // Population, iterations per pass and the pool a pass uses (Npool = N + (T - 1) R).
-    const uint32_t population = o.population > 0
-        ? o.population
-        : std::max<uint32_t>(64, uint32_t(std::lround(kPaperMembersPerPixel * pixels)));
+    // Population, the pool a pass uses (Npool = k P, k >= N / P) and the iterations using it up.
+    const uint32_t population = o.population > 0 ? o.population
+        : o.paperPopulation ? std::max<uint32_t>(64, uint32_t(std::lround(kPaperMembersPerPixel * pixels)))
+                            : std::max<uint32_t>(64, pixels / kPixelsPerMember);
     const int components = int(o.radii.size());
     PathPopulation paths(population, components, o.resampleRate, o.epsilon);
     const uint32_t replacements = paths.replacementsPerIteration();
     // A render of fewer paths per pixel than a pass is one shorter pass.
-    const double passSpp = settings.spp > 0 ? std::min(o.passSpp, double(settings.spp)) : o.passSpp;
-    const double passPaths = std::max(passSpp * double(pixels), double(population));
-    const uint32_t iterations = o.iterations > 0
-        ? o.iterations
-        : 1u + uint32_t(std::ceil((passPaths - double(population)) / double(replacements)));
-    const uint64_t poolPerPass = uint64_t(population) + uint64_t(iterations - 1) * replacements;
+    const uint32_t rounds = std::max(settings.spp > 0 ? std::min(o.passSpp, settings.spp) : o.passSpp,
+                                     (population + pixels - 1) / pixels);
+    const uint64_t poolPerPass = uint64_t(rounds) * pixels;
+    const uint32_t iterations = replacements > 0
+        ? 1u + uint32_t((poolPerPass - population + replacements - 1) / replacements)
+        : 1u;
     const uint32_t passes = settings.spp > 0
         ? std::max<uint32_t>(1, uint32_t(std::lround(double(settings.spp) * pixels / double(poolPerPass))))
         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
@@ -143,7 +166,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
 
     gpu::PtPush ptPush{};
-    ptPush.source = gpu::PT_SOURCE_POINTS;
+    ptPush.source = gpu::PT_SOURCE_LIST;
     ptPush.flags = 0;  // records only: the paths reach the image through their members
     ptPush.seed = settings.seed;
     ptPush.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
@@ -156,12 +179,16 @@ RenderOutput PmcEr::render(RenderSession& session) {
     for (int k = 0; k < components; ++k) push.radii[k] = float(o.radii[size_t(k)]);
     push.causticProbability = o.causticProbability;
     push.birth = o.birth;
-    // Q: the mean energy of a pool path (units of e_d), the mutations a member makes on average.
-    push.birthEnergy = float(mutationsPerPass / double(poolPerPass));
+    // Q: a member's lifetime in mutations (units of e_d); by default the mean energy of a pool
+    // path, the mutations a member makes on average. Like ERPT's chain length it does not change
+    // the expected deposits, only how far each member carries them.
+    push.birthEnergy = o.lifetime > 0.0 ? float(o.lifetime) : float(mutationsPerPass / double(poolPerPass));
     push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
     push.lensThetaMax = 0.1f;
+    push.flags = (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u) |
+                 (o.mixtureAcceptance ? gpu::PMC_ER_FLAG_MIXTURE_ACCEPTANCE : 0u);
 
-    uint64_t poolUsed = 0, mutationsRun = 0, eliminated = 0;
+    uint64_t mutationsRun = 0, eliminated = 0, iterationsRun = 0;
     double remainderEnergy = 0.0;  // deposited at the passes' ends, in units of e_d
     double drainedEnergy = 0.0;    // held by the population when the passes' drains started
     std::vector<double> alphaSum(size_t(components), 0.0);
@@ -192,19 +219,26 @@ RenderOutput PmcEr::render(RenderSession& session) {
 
     // Records the path tracing of the next pool positions and the members made of them in
     // `slots` (chunks beyond the first need the record buffers again: submitted in between).
-    auto regenerate = [&](PositionPool& pool, Pcg32& rng, const std::vector<uint32_t>& slots,
-                          uint32_t pass, uint32_t iteration) {
-        for (size_t first = 0; first < slots.size(); first += recordCapacity) {
-            const uint32_t n = uint32_t(std::min<size_t>(recordCapacity, slots.size() - first));
-            const std::vector<glm::dvec2> positions = pool.next(n, rng);
+    // Slots beyond what is left of the pool stay empty.
+    uint32_t seedDispatches = 0;  // in this pass: keeps the seed kernel's random numbers apart
+    auto regenerate = [&](StratifiedPixelPool& pool, const std::vector<uint32_t>& slots, uint32_t pass) {
+        for (size_t first = 0; first < slots.size() && pool.remaining() > 0; first += recordCapacity) {
+            std::vector<PoolSample> samples =
+                pool.next(uint32_t(std::min<size_t>(recordCapacity, slots.size() - first)));
+            const uint32_t n = uint32_t(samples.size());
+            // Traced in pixel order: neighbouring invocations trace neighbouring rays (the pool's
+            // order spreads them over the image, which made tracing twice as slow on lavapipe).
+            // Which slot a path fills does not matter.
+            std::sort(samples.begin(), samples.end(), [](const PoolSample& x, const PoolSample& y) {
+                return x.pixel != y.pixel ? x.pixel < y.pixel : x.sampleIndex < y.sampleIndex;
+            });
+            // The pixel's own sampler sequence places the position and drives the path.
             std::vector<gpu::SampleRequest> req(n);
             for (uint32_t i = 0; i < n; ++i) {
-                req[i].raster = glm::vec2(positions[i]);
-                // A sampler sequence of its own for every path of the render.
-                req[i].pixel = uint32_t(poolUsed + i);
-                req[i].sampleIndex = uint32_t((poolUsed + i) >> 32);
+                req[i].pixel = samples[i].pixel;
+                req[i].sampleIndex = samples[i].sampleIndex;
+                req[i].raster = glm::vec2(0.0f);
             }
-            poolUsed += n;
             flush();
             requests.upload(req.data(), n * sizeof(gpu::SampleRequest));
             seedSlots.upload(slots.data() + first, n * sizeof(uint32_t));
@@ -217,9 +251,24 @@ RenderOutput PmcEr::render(RenderSession& session) {
             batch.bind(work);
             push.memberCount = n;
             push.pass = pass;
-            push.iteration = iteration;
+            push.iteration = seedDispatches++;
             batch.dispatch(seedKernel, push, n);
             inBatch += 2;
+        }
+    };
+    // Regenerates `slots` until each holds a member with energy or the pool is used up: a path
+    // born without shares (floor(U + E / Q) = 0, or only direct paths) leaves its slot empty,
+    // and the next pool path takes it at once rather than an iteration later. Which slot a
+    // path fills changes neither its energy nor its lifetime law: still unbiased.
+    auto regenerateAlive = [&](StratifiedPixelPool& pool, std::vector<uint32_t> slots, uint32_t pass) {
+        for (uint32_t round = 0; !slots.empty() && pool.remaining() > 0 && round < o.refillRounds; ++round) {
+            regenerate(pool, slots, pass);
+            flush();
+            const auto state = members.download<gpu::PmcErMember>(population);
+            std::vector<uint32_t> empty;
+            for (uint32_t s : slots)
+                if (!(state[s].remaining > 0.0f)) empty.push_back(s);
+            slots.swap(empty);
         }
     };
     // Records `steps` mutations of every member, in dispatches of members the sizer keeps short.
@@ -254,24 +303,31 @@ RenderOutput PmcEr::render(RenderSession& session) {
     if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
         for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
             Pcg32 rng(settings.seed, 0x9e3779b97f4a7c15ULL + pass);
-            PositionPool pool(width, height);
+            StratifiedPixelPool pool(width, height, rounds, pass * rounds, rng);
             std::vector<uint32_t> all(population);
             for (uint32_t i = 0; i < population; ++i) all[i] = i;
-            regenerate(pool, rng, all, pass, 0);
-            for (uint32_t t = 0; t < iterations; ++t) {
+            seedDispatches = 0;
+            regenerateAlive(pool, all, pass);
+            for (;;) {
                 mutate(o.mutations);
+                ++iterationsRun;
                 auto state = downloadMembers();
                 if (session.interrupted()) {
                     interrupted = true;
                     break;
                 }
-                if (t + 1 == iterations) break;
+                if (pool.remaining() == 0) break;
                 // Adapt, eliminate, regenerate (sec. 4.5).
                 paths.adapt(state);
                 const PathResampleResult r = paths.eliminate(state, rng);
                 eliminated += r.eliminated;
                 members.upload(state);
-                regenerate(pool, rng, r.regenerate, pass, t + 1);
+                // The eliminated members' slots and any other empty one (a member that has
+                // deposited all its energy) take new paths.
+                std::vector<uint32_t> empty;
+                for (uint32_t i = 0; i < population; ++i)
+                    if (!(state[i].remaining > 0.0f)) empty.push_back(i);
+                regenerateAlive(pool, o.refillRounds > 1 ? empty : r.regenerate, pass);
             }
             if (interrupted) break;
             // Drain: the members go on mutating, without regeneration, until they have deposited
@@ -348,15 +404,19 @@ RenderOutput PmcEr::render(RenderSession& session) {
 
     const Counters& c = session.counters();
     const double seedEnergy = batches.seedEnergy(), depositedEnergy = batches.depositedEnergy();
+    const double directEnergy = batches.directEnergy();
     nlohmann::json meanAlpha = nlohmann::json::array();
     for (int k = 0; k < components; ++k)
         meanAlpha.push_back(alphaMembers > 0 ? alphaSum[size_t(k)] / double(alphaMembers) : 0.0);
     out.methodStats = {
         {"passes", done},
         {"population", population},
-        {"iterations_per_pass", iterations},
+        {"iterations_per_pass", iterations},  // without refills (--refill-rounds 0)
+        {"iterations_run", iterationsRun},
         {"replacements_per_iteration", replacements},
         {"pool_paths_per_pass", poolPerPass},
+        {"redistribute", o.depositDirect ? "indirect" : "all"},
+        {"acceptance", o.mixtureAcceptance ? "mixture" : "component"},
         {"mutations_per_member", o.mutations},
         {"birth", o.birth == gpu::PMC_ER_BIRTH_EQUAL ? "equal" : "path"},
         {"birth_energy", push.birthEnergy},
@@ -373,6 +433,8 @@ RenderOutput PmcEr::render(RenderSession& session) {
         {"drain_energy", drainedEnergy},
         // Zero in expectation only (path_population.h): the noise of survival and roulette.
         {"deposited_vs_seed_energy", seedEnergy > 0.0 ? depositedEnergy / seedEnergy - 1.0 : 0.0},
+        // The share of the image's energy deposited straight from direct seed paths.
+        {"direct_energy_share", directEnergy + seedEnergy > 0.0 ? directEnergy / (directEnergy + seedEnergy) : 0.0},
     };
     out.methodStats.update(mutationStatistics(c));
     return out;

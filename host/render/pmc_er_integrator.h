@@ -9,8 +9,8 @@
 // their slots from the pool (render/path_population.h). When the pass ends every member
 // deposits what it has left (pmc_er_finish).
 //
-// Energy (sec. 4.3): a pass traces Npool = N + (T - 1) R pool positions, T iterations, R
-// replacements each, so a path of luminance L carries E = L P / Npool of pixel value (P pixels:
+// Energy (sec. 4.3): a pass traces Npool = k P pool positions, N at first and R per iteration
+// after, so a path of luminance L carries E = L P / Npool of pixel value (P pixels:
 // each position is uniform over the image); e_d = E~ / (T N M) with E~ = P times the mean pixel
 // luminance of a `--prepass-spp` path-traced pre-pass (eq. 4). Bookkeeping keeps every member's
 // expected deposit equal to its energy (render/path_population.h), so the image is unbiased in
@@ -18,10 +18,13 @@
 // paths of chains whose every kernel leaves the target function invariant. Deviations from the
 // paper are listed in README.md ("PMC-ER").
 //
-// Passes: `--pass-spp` pool positions per pixel per pass (T follows, or `--iterations`); each
-// pass is an independent unbiased image and the passes are averaged, so `--spp N` is N
-// path-traced paths per pixel in all (the paper's "initial PT paths") and `--time` renders whole
-// passes until the time is up.
+// Passes: `--pass-spp` k pool positions per pixel per pass, exactly k in every pixel (the pool
+// is stratified per pixel, render/stratified_pixel_pool.h), and T = 1 + ceil((k P - N) / R)
+// iterations use them up (the last regeneration takes what is left); each pass is an
+// independent unbiased image and the passes are averaged, so `--spp N` is N path-traced paths
+// per pixel in all (the paper's "initial PT paths") and `--time` renders whole passes until
+// the time is up. With `--redistribute indirect` (the default, as ERPT's) the seed paths with
+// at most one scattering vertex are deposited at their pixel and only the rest make members.
 #pragma once
 
 #include <vector>
@@ -32,14 +35,18 @@
 namespace pmcr {
 
 struct PmcErOptions {
-    uint32_t population = 0;         // 0: auto (the paper's 5000 per 640x480 pixels, at least 64)
-    uint32_t mutations = 16;         // per member per iteration (paper: 16-20)
+    uint32_t population = 0;         // 0: auto (one per 4 pixels, at least 64)
+    bool paperPopulation = false;    // --population paper: 5000 per 640x480 pixels, at least 64
+    uint32_t mutations = 1;          // per member per iteration (paper: 16-20; 1 measured best)
     std::vector<double> radii = {5.0, 10.0, 50.0};
     double resampleRate = 0.4;
     double epsilon = 0.1;
     float causticProbability = 0.9f; // gamma_caustic
-    double passSpp = 4.0;            // pool positions per pixel per pass
-    uint32_t iterations = 0;         // per pass; 0: from passSpp
+    uint32_t passSpp = 4;            // pool positions per pixel per pass (rounds of the pool)
+    bool depositDirect = true;       // --redistribute indirect: direct seed paths at their pixel
+    bool mixtureAcceptance = false;  // eq. 8 over the radii instead of eq. 9
+    double lifetime = 20.0;          // Q of equal births in mutations; 0: auto (mean path energy)
+    uint32_t refillRounds = 8;       // regenerations of slots left empty by a birth without shares
     uint32_t prepassSpp = 4;
     uint32_t stepsPerDispatch = 4;
     uint32_t birth = 0;              // gpu::PMC_ER_BIRTH_*

@@ -7,15 +7,6 @@
 
 #include "common/seed_paths.glsl"
 
-// Seed paths with at most one scattering vertex between the eye and the light: the emitter seen
-// directly (s = 0) and direct lighting at the first hit (s = 1: light sampling; s = 2: the
-// BSDF-sampled ray hit an emitter). With ERPT_FLAG_DEPOSIT_DIRECT these are deposited at their
-// own pixel by erpt_count instead of starting chains. The pixel's estimate is the sum over its
-// seed paths of their contributions; each term is estimated without bias either way (the seed
-// itself, or the chains it starts, ERPT sec. 3.2), so the sum stays unbiased. Path tracing with
-// light sampling already estimates these terms with little noise, which chains would only add.
-bool isDirectSeed(uint s) { return s < 3u; }
-
 // Chains started by seed path s of record r; the random number comes from (seed, pass, r, s)
 // so that the counting and the writing kernels agree.
 uint seedChainCount(PathRecord rec, uint r, uint s) {

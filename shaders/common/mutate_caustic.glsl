@@ -75,8 +75,23 @@ float causticThetaMax(uint base, uint h, float thetaPerPixels) {
     return chain > 0.0 ? min(thetaPerPixels * eye / chain, 0.5 * PI) : 0.0;
 }
 
+// The density in theta of the uniform law's mixture over radii at the path in `base` (PMC-ER
+// eq. 8 restricted to the caustic components): sum_j alpha_j [theta <= thetaMax_j] / thetaMax_j,
+// thetaMax_j = causticThetaMax(theta(d_j)). The solid-angle density divides it by
+// 2 pi sin theta, the same at x and y.
+float causticMixtureDensity(AngleSampler angle, uint base, uint h, float theta) {
+    float p = 0.0;
+    for (uint j = 0u; j < angle.mixtureCount; ++j) {
+        float thetaMax = causticThetaMax(base, h, angle.mixtureThetas[j]);
+        if (thetaMax > 0.0 && theta <= thetaMax) p += angle.mixtureWeights[j] / thetaMax;
+    }
+    return p;
+}
+
 // `angle.thetaMax` is the log-uniform upper bound, or for the uniform law theta(d) (radians for
-// d pixels), scaled per path by causticThetaMax.
+// d pixels), scaled per path by causticThetaMax. With a mixture (angle.mixtureCount > 0) the
+// angle comes from the component angle.thetaMax and T(y->x) / T(x->y) is the ratio of the whole
+// mixture's densities: the reverse move may come from any radius, so y is valid when one reaches.
 bool mutateCaustic(uint xBase, uint yBase, uint k, vec3 throughputX, AngleSampler angle,
                    inout Rng rng, inout uint rays, out MutationResult r) {
     r.targetX = 0.0;
@@ -124,7 +139,11 @@ bool mutateCaustic(uint xBase, uint yBase, uint k, vec3 throughputX, AngleSample
     rays += 1u;
     if (traceAny(fromX1, normalize(e), length(e))) return false;
 
-    if (angle.uniformLaw) {
+    if (angle.uniformLaw && angle.mixtureCount > 0u) {
+        float pY = causticMixtureDensity(angle, yBase, h, theta);
+        if (!(pY > 0.0)) return false;
+        r.transitionRatio = pY / causticMixtureDensity(angle, xBase, h, theta);
+    } else if (angle.uniformLaw) {
         float thetaMaxY = causticThetaMax(yBase, h, angle.thetaMax);
         if (!(theta <= thetaMaxY) || !(thetaMaxY > 0.0)) return false;
         r.transitionRatio = thetaMaxX / thetaMaxY;

@@ -30,7 +30,24 @@ struct AngleSampler {
     float thetaMin;    // log-uniform between thetaMin and thetaMax (Veach and Guibas 1997),
     float thetaMax;    // or uniform in [0, thetaMax] when `uniformLaw` (PMC-ER sec. 4.4)
     bool uniformLaw;
+    // The uniform law's angle was drawn from one component of a mixture over `mixtureCount`
+    // (0: none) upper bounds theta(d_j) with weights alpha_j (PMC-ER eq. 8, the radii); the
+    // acceptance then uses the density of the whole mixture (mutate_caustic.glsl).
+    uint mixtureCount;
+    vec3 mixtureWeights;
+    vec3 mixtureThetas;
 };
+
+AngleSampler angleSampler(float thetaMin, float thetaMax, bool uniformLaw) {
+    AngleSampler s;
+    s.thetaMin = thetaMin;
+    s.thetaMax = thetaMax;
+    s.uniformLaw = uniformLaw;
+    s.mixtureCount = 0u;
+    s.mixtureWeights = vec3(0.0);
+    s.mixtureThetas = vec3(0.0);
+    return s;
+}
 
 // Samples a perturbation angle; with the log-uniform law p(theta) ~ 1/theta the proposal is
 // symmetric in solid angle, because the reverse move needs the same angle.

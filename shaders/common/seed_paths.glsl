@@ -22,6 +22,15 @@ vec3 seedContribution(PathRecord rec, uint s) {
     return (v.flags & VERTEX_HAS_LIGHT_SAMPLE) != 0u ? v.explicitContribution : vec3(0.0);
 }
 
+// Seed paths with at most one scattering vertex between the eye and the light: the emitter seen
+// directly (s = 0) and direct lighting at the first hit (s = 1: light sampling; s = 2: the
+// BSDF-sampled ray hit an emitter). With ERPT_FLAG_DEPOSIT_DIRECT these are deposited at their
+// own pixel (erpt_count, pmc_er_seed) instead of starting chains or population members. The
+// pixel's estimate is the sum over its seed paths of their contributions; each term is estimated without bias either way (the seed
+// itself, or the chains it starts, ERPT sec. 3.2), so the sum stays unbiased. Path tracing with
+// light sampling already estimates these terms with little noise, which chains would only add.
+bool isDirectSeed(uint s) { return s < 3u; }
+
 #ifdef PMCR_PATH_SPACE_GLSL
 // Copies seed path s of record `rec` (x1..x_j, + the light point) into slot 0 of `chain` and
 // returns the chain's state; the caller sets rng and origin.

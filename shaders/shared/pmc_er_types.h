@@ -18,6 +18,9 @@ PMCR_CHECK_SIZE(PmcErMember, 36);
 PMCR_CONST uint PMC_ER_BIRTH_EQUAL = 0;  // E_remain = Q, shares n = floor(U + E / Q) (n = 0: none)
 PMCR_CONST uint PMC_ER_BIRTH_PATH = 1;   // the paper's: E_remain = E, shares 1
 
+// PmcErPush.flags beyond ERPT_FLAG_DEPOSIT_DIRECT (shared/chain_types.h):
+PMCR_CONST uint PMC_ER_FLAG_MIXTURE_ACCEPTANCE = 16u;  // eq. 8 over the radii, not eq. 9
+
 // Work-set bindings: ERPT's 0..9 (shared/chain_types.h) keep their meaning, then:
 PMCR_CONST uint PMC_ER_BINDING_MEMBERS = 10;     // PmcErMember[population]
 PMCR_CONST uint PMC_ER_BINDING_STRATEGY = 11;    // uint[pixel * 3 + component]: mutations made there
@@ -38,5 +41,11 @@ struct PmcErPush {
     float lensThetaMax;
     uint birth;              // PMC_ER_BIRTH_*
     float birthEnergy;       // Q, units of e_d (PMC_ER_BIRTH_EQUAL)
+    uint flags;              // ERPT_FLAG_DEPOSIT_DIRECT (shared/chain_types.h): seed paths
+                             // with at most one scattering vertex go to their own pixel;
+                             // PMC_ER_FLAG_MIXTURE_ACCEPTANCE
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
-PMCR_CHECK_SIZE(PmcErPush, 64);
+PMCR_CHECK_SIZE(PmcErPush, 80);

@@ -11,6 +11,8 @@
 //          results[4i+1] = (theta drawn, phi drawn, thetaMax(x), thetaMax(y) or 0)
 //          results[4i+2] = (unit direction head -> y_h-1, valid)
 //          results[4i+3] = (unit direction head -> x_h-1 (the centre), h)
+//          With a mixture, the component is drawn first (alpha_j = mixtureWeights) and
+//          results[4i+1].zw = (thetaMax(x), thetaMax(y)) per unit theta(d), uncapped.
 //   mode 2 (Jacobians by finite differences): invocation j takes path j at chain j, slot 0
 //          (binding 5), with (k, h) = pathInfo[j], and writes results[64j ...]:
 //          [0]  (rasterDensity(x1), reconnectionFactor(x1, x2), |cos_s(x1 -> x2)|, causticGamma)
@@ -43,6 +45,10 @@ layout(push_constant, scalar) uniform Push {
     uint uniformLaw;
     float eps;           // mode 2: position step (scene units)
     float epsAngle;      // mode 2: direction step (radians)
+    uint mixtureCount;   // mode 1, uniform law: a mixture over theta(d_j) (PMC-ER eq. 8), 0: none
+    vec3 mixtureWeights;
+    vec3 mixtureThetas;
+    uint pad;
 } push;
 
 // Retraces the specular chain x_h-1 .. x2 from a ray leaving the head at `headPosition` with
@@ -125,10 +131,7 @@ void main() {
     for (uint v = 0u; v < push.k; ++v) chainVertices[xBase + v] = templateVertices[v];
     vec3 throughputX = pathThroughput(xBase, push.k);
     Rng rng = rngCreate(hashCombine(i, push.seed));
-    AngleSampler angle;
-    angle.thetaMin = push.thetaMin;
-    angle.thetaMax = push.thetaMax;
-    angle.uniformLaw = push.uniformLaw != 0u;
+    AngleSampler angle = angleSampler(push.thetaMin, push.thetaMax, push.uniformLaw != 0u);
     uint rays = 0u;
     MutationResult r;
     bool valid;
@@ -142,6 +145,16 @@ void main() {
                                     rasterDensity(pathPoint(xBase, 0u)), 0.0);
         results[4u * i + 3u] = vec4(pathPoint(xBase, 0u).position, float(chainVertices[yBase].triangle));
         return;
+    }
+    if (push.mixtureCount > 0u) {
+        // The component, by its weight; mutateCaustic gets the whole mixture.
+        float u = rngNext(rng);
+        uint j = 0u;
+        for (; j + 1u < push.mixtureCount && u >= push.mixtureWeights[j]; ++j) u -= push.mixtureWeights[j];
+        angle.thetaMax = push.mixtureThetas[j];
+        angle.mixtureCount = push.mixtureCount;
+        angle.mixtureWeights = push.mixtureWeights;
+        angle.mixtureThetas = push.mixtureThetas;
     }
     // The angles mutateCaustic draws: its first two random numbers.
     Rng drawn = rng;
@@ -159,6 +172,11 @@ void main() {
     vec3 toX = normalize(pathPoint(xBase, h - 1u).position - head.position);
     float thetaMaxY = valid && angle.uniformLaw ? causticThetaMax(yBase, h, angle.thetaMax) : 0.0;
     results[4u * i] = vec4(r.rasterY, valid ? 1.0 : 0.0, r.transitionRatio);
+    if (push.mixtureCount > 0u) {
+        const float unit = 1e-4;  // small enough for the pi / 2 cap not to apply
+        thetaMaxX = causticThetaMax(xBase, h, unit) / unit;
+        thetaMaxY = valid ? causticThetaMax(yBase, h, unit) / unit : 0.0;
+    }
     results[4u * i + 1u] = vec4(sampleTheta(law, u.x), TWO_PI * u.y, thetaMaxX, thetaMaxY);
     results[4u * i + 2u] = vec4(toY, valid ? 1.0 : 0.0);
     results[4u * i + 3u] = vec4(toX, float(h));

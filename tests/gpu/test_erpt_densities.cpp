@@ -47,6 +47,10 @@ struct DensityPush {
     uint32_t uniformLaw;
     float eps;
     float epsAngle;
+    uint32_t mixtureCount;  // caustic, uniform law: PMC-ER eq. 8 over the radii (0: none)
+    glm::vec3 mixtureWeights;
+    glm::vec3 mixtureThetas;
+    uint32_t pad;
 };
 
 // A light path as a chain stores it, and where its camera sample landed.
@@ -679,6 +683,79 @@ TEST_F(ErptDensities, CausticDetailedBalanceMatchesEmpiricalDensities) {
 // ERPT's own law, log-uniform in [thetaMin, thetaMax]: symmetric, transitionRatio 1.
 TEST_F(ErptDensities, CausticLogUniformLawIsSymmetric) {
     expectCausticDetailedBalance(false);
+}
+
+}  // namespace
+}  // namespace pmcr::test
+
+namespace pmcr::test {
+namespace {
+
+// PMC-ER's full-mixture acceptance (eq. 8) over the radii of the caustic perturbation's uniform
+// law: the angle is drawn from component j with probability alpha_j, uniform on
+// [0, thetaMax_j(x)] with thetaMax_j(x) = theta(d_j) c(x) (c the path's scale, eq. 6), so the
+// density in theta is p_x(theta) = sum_j alpha_j [theta <= thetaMax_j(x)] / thetaMax_j(x), and
+// the kernel's transitionRatio must be p_y(theta) / p_x(theta) (the solid-angle densities
+// divide both by 2 pi sin theta). Checked in two parts: the angles drawn follow p_x (chi-square),
+// and on every valid proposal the kernel's ratio is that formula with the scales c(x), c(y) it
+// reports; c itself, the geometry, is checked by the single-component tests above (empirical
+// detailed balance, CausticDetailedBalanceMatchesEmpiricalDensities).
+TEST_F(ErptDensities, CausticRadiusMixtureDetailedBalance) {
+    std::vector<ChainPath> all = recordPaths(4);
+    const ChainPath* x = causticPath(all);
+    ASSERT_NE(x, nullptr) << "no caustic path recorded";
+    const uint32_t n = 1 << 16;
+    auto chain = chainBuffer(n);
+    DensityPush push{};
+    push.uniformLaw = 1;
+    push.mixtureCount = 3;
+    push.mixtureWeights = glm::vec3(0.5f, 0.3f, 0.2f);
+    push.mixtureThetas = glm::vec3(0.01f, 0.03f, 0.09f);
+    auto bound = [&](int j, double scale) {
+        return std::min(double(push.mixtureThetas[j]) * scale, 0.5 * std::numbers::pi);
+    };
+    auto density = [&](double theta, double scale) {
+        double p = 0.0;
+        for (int j = 0; j < 3; ++j)
+            if (theta <= bound(j, scale)) p += double(push.mixtureWeights[j]) / bound(j, scale);
+        return p;
+    };
+    const auto first = propose(1, *x, n, 41, push, chain);
+    const double scaleX = first[1].z;
+    ASSERT_GT(scaleX, 0.0);
+    // The angles drawn, in 48 cells over [0, largest bound], against the mixture's integral.
+    const int cells = 48;
+    const double top = bound(2, scaleX);
+    std::vector<double> observed(cells, 0.0), expected(cells, 0.0);
+    for (int c = 0; c < cells; ++c) {
+        const double lo = top * c / cells, hi = top * (c + 1) / cells;
+        for (int j = 0; j < 3; ++j)
+            expected[size_t(c)] += double(n) * double(push.mixtureWeights[j]) *
+                                   std::max(0.0, std::min(hi, bound(j, scaleX)) - lo) / bound(j, scaleX);
+    }
+    int valid = 0, differing = 0;
+    double worst = 0.0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const double theta = first[4 * i + 1].x;
+        observed[size_t(std::min(cells - 1, int(theta / top * cells)))] += 1.0;
+        if (first[4 * i].z < 0.5f) continue;
+        ++valid;
+        ASSERT_EQ(first[4 * i + 1].z, float(scaleX));
+        const double scaleY = first[4 * i + 1].w;
+        const double formula = density(theta, scaleY) / density(theta, scaleX);
+        const double claimed = first[4 * i].w;
+        worst = std::max(worst, std::abs(claimed / formula - 1.0));
+        ASSERT_NEAR(claimed, formula, 1e-4 * formula) << "proposal " << i << ", theta " << theta;
+        // Where x's and y's components covering theta differ, eq. 8 and eq. 9 part.
+        if (std::abs(formula - scaleX / scaleY) > 1e-3 * formula) ++differing;
+    }
+    std::printf("  mixture theta: %s\n", chi2Test(observed, expected).describe().c_str());
+    EXPECT_TRUE(chi2Passes(observed, expected, "caustic theta, radius mixture"));
+    std::printf("  %d of %u mixture proposals valid, %d where eq. 8's ratio differs from eq. 9's; "
+                "worst |kernel / formula - 1| %.2e\n",
+                valid, n, differing, worst);
+    EXPECT_GT(valid, int(n) / 10);
+    EXPECT_GT(differing, 0);
 }
 
 }  // namespace

@@ -88,9 +88,12 @@ TEST_F(PmcErTest, FurnaceGivesItsAnalyticValue) {
 // (--birth path) fail it: 68 of these 400 pixels with 16 mutations per iteration, 59 with lens
 // perturbations of one radius only, too bright where the image is dark and too dark where it is
 // bright (host/render/path_population.h); equal births pass both.
-TEST_F(PmcErTest, UnbiasedAgainstPathTracing) {
+class PmcErUnbiasedTest : public PmcErTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(PmcErUnbiasedTest, AgainstPathTracing) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
     RenderSettings s = pmcErSettings(20, 8);
+    s.options["acceptance"] = GetParam();
     RenderSettings pt = s;
     pt.method = "pt";
     pt.options.clear();
@@ -98,6 +101,9 @@ TEST_F(PmcErTest, UnbiasedAgainstPathTracing) {
     const auto result = zTestRenders(scene, s, 40, 3000, renderMoments(scene, pt, 16, 5000));
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
+
+// Each radius's own transition density (eq. 9) and the radius mixture's (eq. 8).
+INSTANTIATE_TEST_SUITE_P(Acceptance, PmcErUnbiasedTest, ::testing::Values("component", "mixture"));
 
 }  // namespace
 }  // namespace pmcr::test
