@@ -46,6 +46,16 @@
 // bias at this power. The argument above still holds, so the plain average stays labelled biased
 // and is not the default.
 //
+// What image-plane adaptation can gain here (bench/image-plane-ceiling: an allocation
+// n ∝ sqrt(s^2 / tvi) learned from 4 independent 64-spp pt renders, neighbourhood-averaged, judged
+// on 4 others at equal samples): x1.27 in P-Err on cornell-glass 128x128 and x1.10 on
+// cornell-specular, against pmcr's path tracer, whose samples are stratified in every dimension;
+// most of their error is rare bright paths, which no allocation predicts. (MIS direct lighting on
+// dragon-direct 160x80: x3.4.) PMC-PT pays for its adaptation with steps of about 8 samples per
+// pixel instead of one 64-sample stratified set (pt's own renders, 8 merged renders of 8 spp
+// against one of 64: P-Err +2% on cornell-glass, +3% on cornell-specular), so on
+// cornell-specular it can at best break even.
+//
 // Other departures from the paper, each so that the step's counts do not depend on its values
 // and are positive: a step's TR mutations of a member all start from the member's pixel (members move by
 // resampling), their radii are chosen systematically (about TR alpha_k each), the pool samples
