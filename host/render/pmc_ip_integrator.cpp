@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "render/pixel_order.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -121,6 +122,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     Pcg32 rng(settings.seed, 0x504d432d4950ULL);  // "PMC-IP"
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
+    const std::vector<uint32_t> pixelOrder = mortonPixelOrder(film.width(), film.height());
     vk::CommandBatch batch(session.layout(), &session.timer());
     auto resolve = [&] { return sampler.image(); };
 
@@ -138,14 +140,16 @@ RenderOutput PmcIp::render(RenderSession& session) {
         const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble());
         adaptSeconds += since(adaptStart);
         push.seed = rng.nextUint();
-        // Walk the pixels in order, each pixel's samples 0..n-1 of its sequence.
-        uint32_t pixel = 0;
+        // Walk the pixels in Morton order (coherent rays), each pixel's samples 0..n-1 of its
+        // sequence.
+        uint32_t next = 0;  // position in pixelOrder
         uint32_t index = 0;
         auto nextRequests = [&](uint32_t wanted) {
             requests.clear();
-            while (requests.size() < wanted && pixel < pixels) {
+            while (requests.size() < wanted && next < pixels) {
+                const uint32_t pixel = pixelOrder[next];
                 if (index >= counts[pixel]) {
-                    ++pixel;
+                    ++next;
                     index = 0;
                     continue;
                 }

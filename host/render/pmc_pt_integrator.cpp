@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "image/image.h"
+#include "render/pixel_order.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -18,20 +19,6 @@ namespace {
 
 constexpr uint32_t kSlots = 8;              // dispatches per batch, each with its own buffers
 constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
-
-// Interleaves the bits of a pixel's coordinates (Morton order), so that sorting by it keeps
-// neighbouring camera rays in neighbouring invocations.
-uint32_t mortonCode(uint32_t x, uint32_t y) {
-    auto spread = [](uint32_t v) {
-        v &= 0xffffu;
-        v = (v | (v << 8)) & 0x00ff00ffu;
-        v = (v | (v << 4)) & 0x0f0f0f0fu;
-        v = (v | (v << 2)) & 0x33333333u;
-        v = (v | (v << 1)) & 0x55555555u;
-        return v;
-    };
-    return spread(x) | (spread(y) << 1);
-}
 
 }  // namespace
 
@@ -227,13 +214,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
-    // Pixels in Morton order, so neighbouring camera rays run in neighbouring invocations.
-    std::vector<uint32_t> mortonPixels(pixels);
-    for (uint32_t p = 0; p < pixels; ++p) mortonPixels[p] = p;
-    std::sort(mortonPixels.begin(), mortonPixels.end(), [&](uint32_t a, uint32_t b) {
-        return mortonCode(a % uint32_t(width), a / uint32_t(width)) <
-               mortonCode(b % uint32_t(width), b / uint32_t(width));
-    });
+    const std::vector<uint32_t> mortonPixels = mortonPixelOrder(width, height);
     session.startClock();
     while (steps < stepLimit && !session.shouldStop()) {
         // The step's draws: every member's TR mutations (pixels), then poolSpp pool draws in
