@@ -73,10 +73,13 @@ bool bsdfHasNonDelta(Bsdf b) {
 
 // Probability of sampling the coat (rather than the diffuse base) inside the base lobe: its share
 // of the expected reflectance seen from wo.
-float coatSelectProbability(Bsdf b, float cosThetaO) {
-    float fr = fresnelDielectric(cosThetaO, b.ior);
+float coatSelectProbabilityFromFresnel(Bsdf b, float fr) {
     float diffuse = (1.0 - fr) * luminance(b.baseColor);
     return fr / (fr + diffuse);
+}
+
+float coatSelectProbability(Bsdf b, float cosThetaO) {
+    return coatSelectProbabilityFromFresnel(b, fresnelDielectric(cosThetaO, b.ior));
 }
 
 // Lobe selection probabilities (diffuse, coat, conductor, dielectric) for a given wo.
@@ -185,6 +188,79 @@ float bsdfPdf(Bsdf b, vec3 wo, vec3 wi) {
     return pdf;
 }
 
+// bsdfEval and bsdfPdf in one pass, for callers that need both: the coat's Fresnel factor at wo
+// (its selection probability and the base's attenuation), the reflection half vector, D and the
+// masking terms are computed once for all the lobes that share them. Each term is the same
+// expression, in the same order, as in the separate functions.
+vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
+    pdf = 0.0;
+    if (wo.z <= 0.0) return vec3(0.0);
+    const bool rough = !bsdfSmooth(b);
+    float fresnelO = b.coated ? fresnelDielectric(wo.z, b.ior) : 0.0;
+    float pCoat = b.coated ? coatSelectProbabilityFromFresnel(b, fresnelO) : 0.0;
+    vec4 p = vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric);
+    // Smith masking of wo and wi (Heitz 2014): G1(wo) = 1 / (1 + L(wo)), G2 = 1 / (1 + L(wo) + L(wi)).
+    float lambdaO = rough ? ggxLambda(wo, b.alpha) : 0.0;
+    float G2 = rough ? 1.0 / (1.0 + lambdaO + ggxLambda(wi, b.alpha)) : 0.0;
+    float G1o = 1.0 / (1.0 + lambdaO);
+
+    // Reflection half vector of the coat and the conductor; density of the visible normal
+    // (Heitz 2018) times the reflection Jacobian 1 / (4 |wo.m|).
+    const bool coatSpecular = b.wBase > 0.0 && b.coated && rough;
+    const bool conductor = b.wConductor > 0.0 && rough;
+    vec3 mR = vec3(0.0, 0.0, 1.0);
+    float dR = 0.0;
+    float pdfReflect = 0.0;
+    if ((coatSpecular || conductor) && wi.z > 0.0) {
+        mR = normalize(wo + wi);
+        dR = ggxD(mR, b.alpha);
+        pdfReflect = G1o * max(dot(wo, mR), 0.0) * dR / wo.z / (4.0 * abs(dot(wo, mR)));
+    }
+
+    vec3 f = vec3(0.0);
+    if (b.wBase > 0.0) {
+        if (b.coated) {
+            // evalCoat
+            if (wi.z > 0.0) {
+                vec3 coat = b.baseColor * INV_PI * (1.0 - fresnelDielectric(wi.z, b.ior)) * (1.0 - fresnelO);
+                if (rough)
+                    coat += vec3(dR * G2 * fresnelDielectric(dot(wo, mR), b.ior) / (4.0 * wo.z * wi.z));
+                f += b.wBase * coat;
+            }
+        } else if (wi.z > 0.0) {
+            f += b.wBase * b.baseColor * INV_PI;
+        }
+    }
+    if (p.x > 0.0) pdf += p.x * cosineHemispherePdf(wi.z);
+    if (p.y > 0.0 && wi.z > 0.0 && rough) pdf += p.y * pdfReflect;
+    if (b.wConductor > 0.0 && wi.z > 0.0 && rough) {
+        // evalConductor, pdfConductor
+        f += b.wConductor * (fresnelSchlick(b.baseColor, dot(wo, mR)) * dR * G2 / (4.0 * wo.z * wi.z));
+        pdf += p.z * pdfReflect;
+    }
+    if (b.wDielectric > 0.0 && rough) {
+        // evalDielectric, pdfDielectric (Walter 2007, eqs. 16, 17, 21)
+        vec3 m;
+        bool reflect;
+        if (dielectricHalfVector(b, wo, wi, m, reflect)) {
+            float F = fresnelDielectric(dot(wo, m), b.eta);
+            float D = ggxD(m, b.alpha);
+            float DG = D * G2;
+            float pm = G1o * max(dot(wo, m), 0.0) * D / wo.z;
+            if (reflect) {
+                f += b.wDielectric * vec3(DG * F / (4.0 * wo.z * wi.z));
+                pdf += p.w * (pm * F / (4.0 * abs(dot(wo, m))));
+            } else {
+                float denom = sqr(dot(wi, m) + dot(wo, m) / b.eta);
+                float ft = DG * (1.0 - F) * abs(dot(wi, m) * dot(wo, m) / (wi.z * wo.z * denom)) / sqr(b.eta);
+                f += b.wDielectric * (b.baseColor * ft);
+                pdf += p.w * (pm * (1.0 - F) * abs(dot(wi, m)) / denom);
+            }
+        }
+    }
+    return f;
+}
+
 // The delta lobes. For a specular `lobe` (LOBE_COAT, LOBE_CONDUCTOR or LOBE_DIELECTRIC, the
 // latter reflecting or transmitting), the direction it scatters wo into and its weight
 // f * |cos(wi)| (the lobe's Fresnel factor times its mixture weight; transmission tinted by
@@ -213,8 +289,11 @@ bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out ve
     return maxComponent(weight) > 0.0;
 }
 
-// Draws wi: uLobe picks the lobe, u the direction. Returns false when no direction results.
-bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
+// Draws wi: uLobe picks the lobe, u the direction. Returns false when no direction results. A
+// delta lobe's sample is complete; a non-delta one has only wi and lobe, its f and pdf (those
+// of the whole non-delta mixture) left to bsdfEvalPdf, so that a caller that evaluates other
+// directions too can do it at one call site (bsdfSample does it here).
+bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
     s.wi = vec3(0.0, 0.0, 1.0);
     s.f = vec3(0.0);
     s.pdf = 0.0;
@@ -285,9 +364,14 @@ bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
     } else {
         return false;
     }
+    return true;
+}
+
+bool bsdfSample(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s) {
+    if (!bsdfSampleDirection(b, wo, uLobe, u, s)) return false;
+    if (s.delta) return true;
     // Non-delta: value and density of the whole non-delta mixture at wi.
-    s.f = bsdfEval(b, wo, s.wi);
-    s.pdf = bsdfPdf(b, wo, s.wi);
+    s.f = bsdfEvalPdf(b, wo, s.wi, s.pdf);
     return s.pdf > 0.0 && maxComponent(s.f) > 0.0;
 }
 

@@ -114,6 +114,7 @@ struct PmcHiDraw {
     bool delta;            // drawn by a delta lobe of the BSDF
     bool fromLight;        // drawn by a light component: `lightPoint` is the sampled point
     SurfacePoint lightPoint;
+    float lightPdfArea;    // its area density under component k (LightSample.pdfArea)
 };
 
 // Draws a direction from component k of `kern`; false when no direction results (the sample
@@ -131,15 +132,21 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
     d.lightPoint.uv = vec2(0.0);
     d.lightPoint.triangle = 0u;
     d.lightPoint.material = 0u;
+    d.lightPdfArea = 0.0;
+    // One BSDF evaluation (value and density together) for every component, at one call site:
+    // the invocations of a SIMD group that draw from different components then share it.
+    vec3 wiLocal;
     if (k == PMC_HI_BSDF) {
         BsdfSample bs;
-        if (!shadingSample(sh, u1, u2, bs, d.wi)) return false;
-        d.delta = bs.delta;
-        d.fr = bs.f * abs(bs.wi.z);
-        d.pdfBsdf = bs.pdf;
-        return true;
-    }
-    if (k == PMC_HI_CONE) {
+        if (!shadingSampleDirection(sh, u1, u2, bs, d.wi)) return false;
+        if (bs.delta) {
+            d.delta = true;
+            d.fr = bs.f * abs(bs.wi.z);
+            d.pdfBsdf = bs.pdf;
+            return true;
+        }
+        wiLocal = bs.wi;
+    } else if (k == PMC_HI_CONE) {
         if (kern.coneOneMinusCos <= 0.0) return false;
         d.wi = pmcHiSampleCone(kern.coneAxis, kern.coneOneMinusCos, u2);
     } else {
@@ -151,18 +158,20 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
         d.wi = toLight / distance;
         d.fromLight = true;
         d.lightPoint = ls.point;
+        d.lightPdfArea = ls.pdfArea;
     }
-    float absCos;
-    d.fr = shadingEval(sh, d.wi, d.pdfBsdf, absCos) * absCos;
-    return true;
+    if (k != PMC_HI_BSDF) wiLocal = toLocal(sh.frame, d.wi);
+    vec3 f = shadingEvalLocal(sh, d.wi, wiLocal, d.pdfBsdf);
+    d.fr = f * abs(wiLocal.z);
+    // A BSDF sample the BSDF gives no value or density fails, as in bsdfSample.
+    return k != PMC_HI_BSDF || (d.pdfBsdf > 0.0 && maxComponent(f) > 0.0);
 }
 
-// Density of a non-delta direction wi whose ray first hits `l` (when `hit`): the mixture K of
-// eq. 7 when k == PMC_HI_MAX_COMPONENTS, else component k's own h_k.
-float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pdfBsdf, bool hit,
-                   SurfacePoint l, uint k) {
-    uint lightSlot = PMC_HI_MAX_COMPONENTS;
-    float pdfLight = hit ? pmcHiLightDensity(p, from, l, lightSlot) : 0.0;
+// The mixture K of eq. 7 at a non-delta direction wi when k == PMC_HI_MAX_COMPONENTS, else
+// component k's own h_k, given the BSDF density and the density pdfLight of the one light
+// component (slot lightSlot; PMC_HI_MAX_COMPONENTS for none) that can reach what wi first hits.
+float pmcHiMixtureDensity(PmcHiKernel kern, vec3 wi, float pdfBsdf, float pdfLight, uint lightSlot,
+                          uint k) {
     float pdfCone = pmcHiConePdf(kern.coneAxis, kern.coneOneMinusCos, wi);
     if (k == PMC_HI_MAX_COMPONENTS) {
         // Only one light component can reach the point the ray hits.
@@ -171,6 +180,15 @@ float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pd
         return K;
     }
     return k == PMC_HI_BSDF ? pdfBsdf : k == PMC_HI_CONE ? pdfCone : k == lightSlot ? pdfLight : 0.0;
+}
+
+// Density of a non-delta direction wi whose ray first hits `l` (when `hit`): the mixture K of
+// eq. 7 when k == PMC_HI_MAX_COMPONENTS, else component k's own h_k.
+float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pdfBsdf, bool hit,
+                   SurfacePoint l, uint k) {
+    uint lightSlot = PMC_HI_MAX_COMPONENTS;
+    float pdfLight = hit ? pmcHiLightDensity(p, from, l, lightSlot) : 0.0;
+    return pmcHiMixtureDensity(kern, wi, pdfBsdf, pdfLight, lightSlot, k);
 }
 
 // Draws one direction from component k of `kern` with (u1, u2), traces it and scores it:
@@ -211,8 +229,13 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
         w = f / (rb ? kern.alpha[PMC_HI_BSDF] * d.pdfBsdf : d.pdfBsdf);
         return true;
     }
-    float density = pmcHiDensity(p, kern, sh.surface.position, d.wi, d.pdfBsdf, true, l,
-                                 rb ? PMC_HI_MAX_COMPONENTS : k);
+    // The light component's density at the point: for a point that component k sampled, the
+    // area density the sampler returned (slot k), without looking the light up again.
+    uint lightSlot = k;
+    float pdfLight = d.fromLight ? areaToSolidAngle(d.lightPdfArea, sh.surface.position, l.position, l.normal)
+                                 : pmcHiLightDensity(p, sh.surface.position, l, lightSlot);
+    float density = pmcHiMixtureDensity(kern, d.wi, d.pdfBsdf, pdfLight, lightSlot,
+                                        rb ? PMC_HI_MAX_COMPONENTS : k);
     if (density > 0.0) w = f / density;
     return true;
 }

@@ -29,21 +29,33 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     return sh;
 }
 
-// BSDF value and sampling density for a world direction wi, zero when the geometric and the
-// shading normal disagree about the side of wi.
+// BSDF value and sampling density for world direction wi (wiLocal in the shading frame), zero
+// when the geometric and the shading normal disagree about the side of wi.
+vec3 shadingEvalLocal(ShadingPoint sh, vec3 wi, vec3 wiLocal, out float pdf) {
+    pdf = 0.0;
+    if ((dot(wi, sh.ng) > 0.0) != (wiLocal.z > 0.0)) return vec3(0.0);
+    return bsdfEvalPdf(sh.bsdf, sh.woLocal, wiLocal, pdf);
+}
+
 vec3 shadingEval(ShadingPoint sh, vec3 wi, out float pdf, out float absCos) {
     vec3 wiLocal = toLocal(sh.frame, wi);
-    pdf = 0.0;
     absCos = abs(wiLocal.z);
-    if ((dot(wi, sh.ng) > 0.0) != (wiLocal.z > 0.0)) return vec3(0.0);
-    pdf = bsdfPdf(sh.bsdf, sh.woLocal, wiLocal);
-    return bsdfEval(sh.bsdf, sh.woLocal, wiLocal);
+    return shadingEvalLocal(sh, wi, wiLocal, pdf);
 }
 
 // Samples the BSDF; fails when nothing is sampled or the geometric check rejects the direction.
 bool shadingSample(ShadingPoint sh, float uLobe, vec2 u, out BsdfSample s, out vec3 wi) {
     wi = vec3(0.0);
     if (!bsdfSample(sh.bsdf, sh.woLocal, uLobe, u, s)) return false;
+    wi = toWorld(sh.frame, s.wi);
+    return (dot(wi, sh.ng) > 0.0) == (s.wi.z > 0.0);
+}
+
+// bsdfSampleDirection at a shading point: a non-delta sample has only its direction (s.wi
+// local, wi world), for shadingEvalLocal.
+bool shadingSampleDirection(ShadingPoint sh, float uLobe, vec2 u, out BsdfSample s, out vec3 wi) {
+    wi = vec3(0.0);
+    if (!bsdfSampleDirection(sh.bsdf, sh.woLocal, uLobe, u, s)) return false;
     wi = toWorld(sh.frame, s.wi);
     return (dot(wi, sh.ng) > 0.0) == (s.wi.z > 0.0);
 }
