@@ -228,12 +228,7 @@ RenderOutput Erpt::render(RenderSession& session) {
                 }
             }
             if (interrupted) break;
-            splat.completePass();
-            session.snapshotIfDue(uint64_t(splat.completedPasses()) * pixels,
-                                  [&] { return splat.resolve(depositEnergy); });
-            session.progress().update(settings.spp > 0 ? double(pass + 1) / double(spp)
-                                                       : session.elapsedSeconds() / settings.timeLimit,
-                                      double(pass + 1), "passes");
+            completeRedistributionPass(session, splat, depositEnergy, pixels, pass, spp);
         }
     }
     session.progress().finish();

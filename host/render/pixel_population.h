@@ -78,13 +78,12 @@ std::array<double, kMaxPopulationRadii> adaptAlpha(
 // The stratified pool of positions (PMC-PT sec. 4.3.2 "Stratification"): the R2 sequence
 // (Roberts 2018, the 2D golden-ratio Kronecker sequence) over the image, so any run of
 // consecutive positions is evenly spread. Each chunk gets a fresh random toroidal shift
-// (Cranley-Patterson rotation): every position is then uniform over the image given everything
-// drawn before it, which the unbiased estimator's defensive component needs.
+// (Cranley-Patterson rotation), so a chunk's positions are uniform over the image given
+// everything drawn before it. PMC-PT regenerates members from it.
 class PositionPool {
 public:
     PositionPool(int width, int height) : m_width(width), m_height(height) {}
     std::vector<glm::dvec2> next(uint32_t count, Pcg32& rng);
-    uint64_t used() const { return m_index; }
 
 private:
     int m_width;

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/random.h"
 #include "render/energy_estimate.h"
+#include "render/erpt_integrator.h"
 #include "render/path_population.h"
 #include "render/path_records.h"
 #include "render/redistribution.h"
@@ -183,8 +184,10 @@ RenderOutput PmcEr::render(RenderSession& session) {
     // path, the mutations a member makes on average. Like ERPT's chain length it does not change
     // the expected deposits, only how far each member carries them.
     push.birthEnergy = o.lifetime > 0.0 ? float(o.lifetime) : float(mutationsPerPass / double(poolPerPass));
-    push.lensThetaMin = 1e-4f;  // ERPT's angle law past a D vertex (ERPT footnote 4)
-    push.lensThetaMax = 0.1f;
+    // The lens perturbation's angles past a D vertex: ERPT's default law (ERPT footnote 4).
+    const ErptOptions erptDefaults;
+    push.lensThetaMin = erptDefaults.causticThetaMin;
+    push.lensThetaMax = erptDefaults.causticThetaMax;
     push.flags = (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u) |
                  (o.mixtureAcceptance ? gpu::PMC_ER_FLAG_MIXTURE_ACCEPTANCE : 0u);
 
@@ -194,8 +197,6 @@ RenderOutput PmcEr::render(RenderSession& session) {
     std::vector<double> alphaSum(size_t(components), 0.0);
     uint64_t alphaMembers = 0;
     DispatchSizer sizer(1024, population, session.targetDispatchSeconds());
-    auto submit = [&]() { batches.submit(); };
-    auto beginBatch = [&]() { batches.begin(); };
 
     // Work goes into batches of a few dispatches (one submission each, on the render clock).
     const uint32_t perBatch = uint32_t(std::clamp(
@@ -205,7 +206,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     auto batchStart = std::chrono::steady_clock::now();
     auto flush = [&]() {
         if (inBatch == 0) return;
-        submit();
+        batches.submit();
         if (batchUnits > 0)
             sizer.record(batchUnits, std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count());
         inBatch = 0;
@@ -213,7 +214,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     };
     auto open = [&]() {
         if (inBatch > 0) return;
-        beginBatch();
+        batches.begin();
         batchStart = std::chrono::steady_clock::now();
     };
 
@@ -360,18 +361,13 @@ RenderOutput PmcEr::render(RenderSession& session) {
                 for (int k = 0; k < components; ++k) alphaSum[size_t(k)] += m.alpha[k];
                 ++alphaMembers;
             }
-            beginBatch();
+            batches.begin();
             batch.bind(work);
             push.memberBase = 0;
             push.memberCount = population;
             batch.dispatch(finishKernel, push, population);
-            submit();
-            splat.completePass();
-            session.snapshotIfDue(uint64_t(splat.completedPasses()) * poolPerPass,
-                                  [&] { return splat.resolve(depositEnergy); });
-            session.progress().update(settings.spp > 0 ? double(pass + 1) / double(passes)
-                                                       : session.elapsedSeconds() / settings.timeLimit,
-                                      double(pass + 1), "passes");
+            batches.submit();
+            completeRedistributionPass(session, splat, depositEnergy, poolPerPass, pass, passes);
         }
     }
     session.progress().finish();

@@ -1,5 +1,7 @@
 #include "render/redistribution.h"
 
+#include <limits>
+
 #include "shared/host_device.h"
 #include "vk/context.h"
 
@@ -25,6 +27,17 @@ void RedistributionBatch::submit() {
     m_seedEnergy += e[gpu::ENERGY_SEED];
     m_depositedEnergy += e[gpu::ENERGY_DEPOSITED];
     m_directEnergy += e[gpu::ENERGY_DIRECT];
+}
+
+void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
+                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes) {
+    splat.completePass();
+    session.snapshotIfDue(uint64_t(splat.completedPasses()) * pathsPerPass,
+                          [&] { return splat.resolve(depositEnergy); });
+    const double fraction = passes != std::numeric_limits<uint32_t>::max()
+                                ? double(pass + 1) / double(passes)
+                                : session.elapsedSeconds() / session.settings().timeLimit;
+    session.progress().update(fraction, double(pass + 1), "passes");
 }
 
 nlohmann::json mutationStatistics(const Counters& c) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/session.h"
+#include "render/splat_film.h"
 #include "vk/buffer.h"
 #include "vk/command_batch.h"
 
@@ -35,6 +36,12 @@ private:
     double m_depositedEnergy = 0.0;
     double m_directEnergy = 0.0;
 };
+
+// Ends seed pass `pass` (0-based) of `passes` (UINT32_MAX: as many as --time allows): the device film's
+// deposits join the completed passes, a snapshot is written if one is due (`pathsPerPass`
+// path-traced paths per pass), and the progress bar moves by passes, or by time.
+void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
+                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes);
 
 // Proposals and acceptance per perturbation type, invalid proposals, deposits and drops.
 nlohmann::json mutationStatistics(const Counters& counters);

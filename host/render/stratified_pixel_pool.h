@@ -39,7 +39,6 @@ public:
     StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng);
 
     uint64_t size() const { return uint64_t(m_rounds) * uint64_t(m_width) * uint64_t(m_height); }
-    uint64_t used() const { return m_used; }
     uint64_t remaining() const { return size() - m_used; }
     // The next min(count, remaining()) samples.
     std::vector<PoolSample> next(uint32_t count);

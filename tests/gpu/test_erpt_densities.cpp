@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "distribution_test.h"
@@ -552,13 +553,13 @@ double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
 }
 
 // A caustic path through cornell-glass's glass (x1 diffuse, then specular vertices).
-const ChainPath* causticPath(const std::vector<ChainPath>& all) {
+std::optional<ChainPath> causticPath(const std::vector<ChainPath>& all) {
     const ChainPath* best = nullptr;
     for (const ChainPath& p : all)
         if (p.head > 1 && p.raster.x > 4 && p.raster.x < kSize - 4 && p.raster.y > 4 &&
             p.raster.y < kSize - 4 && (!best || p.vertices.size() < best->vertices.size()))
             best = &p;
-    return best;
+    return best ? std::optional<ChainPath>(*best) : std::nullopt;
 }
 
 // The caustic perturbation with PMC-ER's uniform law: every valid proposal y is x's head
@@ -566,9 +567,8 @@ const ChainPath* causticPath(const std::vector<ChainPath>& all) {
 // [0, 2 pi) (chi-square over all proposals), no valid y has theta > thetaMax(y) (the reverse move
 // must be possible), and the kernel's transitionRatio is thetaMax(x) / thetaMax(y).
 TEST_F(ErptDensities, CausticProposalsRealiseTheirAngles) {
-    std::vector<ChainPath> all = recordPaths(4);
-    const ChainPath* x = causticPath(all);
-    ASSERT_NE(x, nullptr) << "no caustic path recorded";
+    const std::optional<ChainPath> x = causticPath(recordPaths(4));
+    ASSERT_TRUE(x) << "no caustic path recorded";
     const uint32_t n = 1 << 16;
     auto chain = chainBuffer(n);
     DensityPush push{};
@@ -615,9 +615,8 @@ TEST_F(ErptDensities, CausticProposalsRealiseTheirAngles) {
 // T(y -> x) / T(x -> y), which the kernel claims is transitionRatio(x -> y) = thetaMax(x) /
 // thetaMax(y). (The density varies over a cap, the same way for both counts, so it cancels.)
 void ErptDensities::expectCausticDetailedBalance(bool uniformLaw) {
-    std::vector<ChainPath> all = recordPaths(4);
-    const ChainPath* x = causticPath(all);
-    ASSERT_NE(x, nullptr) << "no caustic path recorded";
+    const std::optional<ChainPath> x = causticPath(recordPaths(4));
+    ASSERT_TRUE(x) << "no caustic path recorded";
     const uint32_t n = 1 << 16;
     auto chain = chainBuffer(n);
     DensityPush push{};
@@ -701,9 +700,8 @@ namespace {
 // reports; c itself, the geometry, is checked by the single-component tests above (empirical
 // detailed balance, CausticDetailedBalanceMatchesEmpiricalDensities).
 TEST_F(ErptDensities, CausticRadiusMixtureDetailedBalance) {
-    std::vector<ChainPath> all = recordPaths(4);
-    const ChainPath* x = causticPath(all);
-    ASSERT_NE(x, nullptr) << "no caustic path recorded";
+    const std::optional<ChainPath> x = causticPath(recordPaths(4));
+    ASSERT_TRUE(x) << "no caustic path recorded";
     const uint32_t n = 1 << 16;
     auto chain = chainBuffer(n);
     DensityPush push{};
