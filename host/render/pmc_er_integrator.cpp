@@ -301,9 +301,12 @@ RenderOutput PmcEr::render(RenderSession& session) {
     };
 
     bool interrupted = false;
+    // One generator for the whole render (pool shifts, survival draws). Not one PCG stream per
+    // pass: streams whose increments differ by 2 repeat each other's outputs one step apart, so
+    // render seeds r and r + 2 would share their passes' random numbers.
+    Pcg32 rng(settings.seed, 0x504d432d4552ULL);  // "PMC-ER"
     if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
         for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
-            Pcg32 rng(settings.seed, 0x9e3779b97f4a7c15ULL + pass);
             StratifiedPixelPool pool(width, height, rounds, pass * rounds, rng);
             std::vector<uint32_t> all(population);
             for (uint32_t i = 0; i < population; ++i) all[i] = i;
@@ -407,7 +410,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     out.methodStats = {
         {"passes", done},
         {"population", population},
-        {"iterations_per_pass", iterations},  // without refills (--refill-rounds 0)
+        {"iterations_per_pass", iterations},  // without refills (--refill-rounds 1)
         {"iterations_run", iterationsRun},
         {"replacements_per_iteration", replacements},
         {"pool_paths_per_pass", poolPerPass},
