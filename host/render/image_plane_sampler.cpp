@@ -122,6 +122,7 @@ std::vector<double> ImagePlaneSampler::pilotPerceptualVariance() const {
 
 const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u) {
     const size_t n = m_count.size();
+    m_sequenceStart = m_count;
     if (m_iteration == 0) {
         m_allocated.assign(n, m_options.initialSpp);
         return m_allocated;

@@ -116,10 +116,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     DispatchSizer sizer(std::min<uint32_t>(pixels, 4096), capacity, session.targetDispatchSeconds());
     const uint32_t dispatchesPerBatch =
         uint32_t(std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
-    // The residual passes' offsets and each iteration's render seed: every iteration scrambles
-    // each pixel's sample sequence afresh, so its samples are independent of the earlier ones
-    // (see image_plane_sampler.h).
+    // The residual passes' offsets, and the render seed that scrambles every pixel's sequence
+    // once for the whole render (see image_plane_sampler.h).
     Pcg32 rng(settings.seed, 0x504d432d4950ULL);  // "PMC-IP"
+    push.seed = rng.nextUint();
     std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
     const std::vector<uint32_t> pixelOrder = mortonPixelOrder(film.width(), film.height());
@@ -139,9 +139,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
         const auto adaptStart = std::chrono::steady_clock::now();
         const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble());
         adaptSeconds += since(adaptStart);
-        push.seed = rng.nextUint();
-        // Walk the pixels in Morton order (coherent rays), each pixel's samples 0..n-1 of its
-        // sequence.
+        // Walk the pixels in Morton order (coherent rays), each pixel's samples the next n
+        // points of its sequence.
         uint32_t next = 0;  // position in pixelOrder
         uint32_t index = 0;
         auto nextRequests = [&](uint32_t wanted) {
@@ -153,7 +152,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
                     index = 0;
                     continue;
                 }
-                requests.push_back({pixel, index++, glm::vec2(0.0f)});
+                requests.push_back({pixel, sampler.sequenceStart(pixel) + index++, glm::vec2(0.0f)});
             }
         };
         for (;;) {
@@ -188,7 +187,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
             const auto reduceStart = std::chrono::steady_clock::now();
             results.resize(n);
             resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
-            for (uint32_t k = 0; k < n; ++k) sampler.addSample(requests[k].pixel, requests[k].sampleIndex, glm::vec3(results[k]));
+            for (uint32_t k = 0; k < n; ++k) {
+                const uint32_t pixel = requests[k].pixel;
+                sampler.addSample(pixel, requests[k].sampleIndex - sampler.sequenceStart(pixel), glm::vec3(results[k]));
+            }
             if (pmcHi) {
                 // Each pixel's sum of its samples' final weights this iteration.
                 requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);

@@ -257,6 +257,28 @@ TEST(ImagePlaneSampler, UnbiasedWithoutPerIterationPilots) {
     EXPECT_EQ(ours.failing, 0) << "worst |z| " << ours.worstZ;
 }
 
+// A pixel's samples continue one sequence over the iterations: each iteration starts where the
+// pixel's samples so far end, so no point is used twice and none is skipped.
+TEST(ImagePlaneSampler, EachIterationContinuesThePixelsSequence) {
+    ImagePlaneOptions options;
+    options.initialSpp = 4;
+    options.samplesPerIteration = 4.0;
+    const int width = 16;
+    ImagePlaneSampler sampler(width, 1, options);
+    std::mt19937_64 rng(7);
+    std::vector<uint32_t> taken(width, 0);
+    for (int t = 0; t < 4; ++t) {
+        const auto& counts = sampler.allocate(std::uniform_real_distribution<double>(0.0, 1.0)(rng));
+        for (int i = 0; i < width; ++i) {
+            EXPECT_EQ(sampler.sequenceStart(uint32_t(i)), taken[i]) << "pixel " << i << ", iteration " << t;
+            for (uint32_t k = 0; k < counts[i]; ++k)
+                sampler.addSample(uint32_t(i), k, glm::vec3(i % 3 == 0 ? float(k % 2) : 0.5f));
+            taken[i] += counts[i];
+        }
+        sampler.finishIteration();
+    }
+}
+
 TEST(ImagePlaneSampler, AdaptiveIterationsSpendTheBudgetWhereTheVarianceIs) {
     // Left half noisy, right half constant.
     SyntheticImage img;
