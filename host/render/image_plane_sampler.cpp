@@ -120,7 +120,7 @@ std::vector<double> ImagePlaneSampler::pilotPerceptualVariance() const {
     return v;
 }
 
-const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u) {
+const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u, double spp) {
     const size_t n = m_count.size();
     m_sequenceStart = m_count;
     if (m_iteration == 0) {
@@ -129,10 +129,11 @@ const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u) {
     }
     m_alpha = neighbourMixtureWeights(pilotPerceptualVariance(), m_width, m_height, m_options.epsilon,
                                      m_options.radius);
-    // N = samplesPerIteration * P: minSamples pilot samples per pixel, the rest by alpha.
-    const double adaptive = (m_options.samplesPerIteration - double(m_options.minSamples)) * double(n);
+    // N = spp * P: the pilot samples per pixel, the rest by alpha.
+    m_iterationPilots = std::min<uint32_t>(m_options.minSamples, uint32_t(std::max(0.0, std::floor(spp))));
+    const double adaptive = std::max(0.0, spp - double(m_iterationPilots)) * double(n);
     std::vector<double> expected(n);
-    for (size_t i = 0; i < n; ++i) expected[i] = double(m_options.minSamples) + adaptive * m_alpha[i];
+    for (size_t i = 0; i < n; ++i) expected[i] = double(m_iterationPilots) + adaptive * m_alpha[i];
     m_allocated = dmsRound(expected, u);
     return m_allocated;
 }
@@ -143,7 +144,7 @@ void ImagePlaneSampler::addSample(uint32_t pixel, uint32_t index, const glm::vec
     m_count[pixel] += 1;
     m_lumSum[pixel] += y;
     m_lumSqSum[pixel] += y * y;
-    if (m_iteration == 0 || index < m_options.minSamples) {
+    if (m_iteration == 0 || index < m_iterationPilots) {
         m_pilotLumSum[pixel] += y;
         m_pilotLumSqSum[pixel] += y * y;
         m_pilotCount[pixel] += 1;

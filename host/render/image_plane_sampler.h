@@ -90,8 +90,11 @@ public:
     uint32_t iteration() const { return m_iteration; }
 
     // The sample counts of the next iteration: uniform `initialSpp` for the first, then
-    // adaptive; `u` in [0,1) drives the residual pass. Starts the iteration.
-    const std::vector<uint32_t>& allocate(double u);
+    // adaptive, `spp` samples per pixel on average (less than samplesPerIteration for a last
+    // iteration that ends a budget; the pilots are at most floor(spp)); `u` in [0,1) drives
+    // the residual pass. Starts the iteration.
+    const std::vector<uint32_t>& allocate(double u, double spp);
+    const std::vector<uint32_t>& allocate(double u) { return allocate(u, m_options.samplesPerIteration); }
     // The result of sample `index` (0, 1, ... within the iteration) of `pixel` (NaN samples
     // already zeroed). A render stopped mid-iteration just leaves some samples out: which ones
     // depends on time, not on values.
@@ -118,6 +121,7 @@ private:
     uint64_t m_samplesTaken = 0;
     std::vector<uint32_t> m_allocated;
     std::vector<uint32_t> m_sequenceStart;
+    uint32_t m_iterationPilots = 0;  // pilot samples per pixel this iteration
     std::vector<double> m_alpha;
     // Every sample: radiance sum, count and luminance moments; the pilot samples' luminance
     // moments and count apart.

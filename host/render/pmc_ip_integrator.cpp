@@ -72,7 +72,11 @@ RenderOutput PmcIp::render(RenderSession& session) {
                                      : 0;
     }
     const uint64_t totalIterations = iterations + 1;
-    const double budgetSpp = double(m_options.initialSpp) + double(iterations) * m_options.samplesPerIteration;
+    // Samples per pixel in all: --spp exactly (the last iteration takes what is left), or what
+    // --iterations asks for.
+    const double budgetSpp = m_iterations == 0 && settings.spp > 0
+                                 ? std::max(double(settings.spp), double(m_options.initialSpp))
+                                 : double(m_options.initialSpp) + double(iterations) * m_options.samplesPerIteration;
 
     const uint32_t capacity = kMaxRequestsInFlight;
     vk::Buffer requestBuffer(context, uint64_t(capacity) * sizeof(gpu::SampleRequest),
@@ -137,7 +141,12 @@ RenderOutput PmcIp::render(RenderSession& session) {
     uint64_t iteration = 0;
     for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
         const auto adaptStart = std::chrono::steady_clock::now();
-        const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble());
+        // The last iteration of a --spp budget takes only what is left of it.
+        const double spp = iteration == 0 ? double(m_options.initialSpp)
+                                          : std::min(m_options.samplesPerIteration,
+                                                     budgetSpp - double(m_options.initialSpp) -
+                                                         double(iteration - 1) * m_options.samplesPerIteration);
+        const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble(), spp);
         adaptSeconds += since(adaptStart);
         // Walk the pixels in Morton order (coherent rays), each pixel's samples the next n
         // points of its sequence.
