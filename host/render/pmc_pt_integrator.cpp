@@ -128,7 +128,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
     DispatchSizer sizer(2048, kSlotCapacity, session.targetDispatchSeconds());
 
     // Path traces `requests` into `results` in dispatches of the sizer's size, a few per batch;
-    // false when asked to stop first.
+    // false when interrupted first. The time limit does not stop a step midway (an unfinished
+    // step is dropped whole, so its time would be spent for nothing): the loop below decides
+    // before each step whether it is to run.
     auto trace = [&](const std::vector<gpu::SampleRequest>& requests,
                      std::vector<glm::vec4>& results) {
         results.resize(requests.size());
@@ -136,7 +138,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, double(kSlots)));
         size_t done = 0;
         while (done < requests.size()) {
-            if (session.shouldStop()) return false;
+            if (session.interrupted()) return false;
             batch.fill(film.counters(), 0);
             batch.bind(session.scene().descriptorSet());
             struct Pending {
@@ -215,8 +217,16 @@ RenderOutput PmcPt::render(RenderSession& session) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
     const std::vector<uint32_t> mortonPixels = mortonPixelOrder(width, height);
+    // With --time, end at the step boundary nearest the limit: start a step only if it is
+    // expected (from the steps so far) to end less than half a step past the limit.
+    const bool timed = settings.timeLimit > 0.0;
+    auto stepFits = [&] {
+        if (!timed || steps == 0) return true;
+        const double elapsed = session.elapsedSeconds();
+        return elapsed + 0.5 * elapsed / double(steps) < settings.timeLimit;
+    };
     session.startClock();
-    while (steps < stepLimit && !session.shouldStop()) {
+    while (steps < stepLimit && !session.interrupted() && stepFits()) {
         // The step's draws: every member's TR mutations (pixels), then poolSpp pool draws in
         // every pixel. How many land in each pixel depends on the past and the host's random
         // numbers only, never on this step's radiance values.
@@ -240,7 +250,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
         push.seed = stepSeeds.nextUint();
         hostSeconds += since(hostStart);
-        if (!trace(requests, results)) break;  // an unfinished step is dropped whole
+        if (!trace(requests, results)) break;  // interrupted: an unfinished step is dropped whole
         hostStart = std::chrono::steady_clock::now();
 
         // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
