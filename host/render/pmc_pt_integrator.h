@@ -78,6 +78,7 @@ struct PmcPtOptions {
     double epsilon = 0.01;
     double defensive = 0.5;         // share of a step's eye paths drawn from the pool (sets
                                     // the population unless --population is given)
+    double stepGrowth = 1.5;        // step t is round(G^t) first steps' worth of eye paths
     bool plainAverage = false;      // --estimator average: the paper's per-pixel average (biased)
                                     // instead of the average of step averages
 
