@@ -102,8 +102,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     // Step sizes grow geometrically (--step-growth G: m_t = round(G^t) units, at most
     // maxMultiplier): early steps are small, so the population adapts soon, and later ones
     // large, so most of a pixel's samples are in few stratified sets (the step average gives up
-    // the stratification between steps: 26 steps of 8 eye paths per pixel had 15% more
-    // perceptual error than 7 growing steps on cornell-glass 64x64 at equal time).
+    // the stratification between steps; see the header).
     auto scheduled = [&](uint64_t step) {
         const double m = std::round(std::pow(o.stepGrowth, double(std::min<uint64_t>(step, 64))));
         return uint64_t(std::clamp(m, 1.0, double(maxMultiplier)));
