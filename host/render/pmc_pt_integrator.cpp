@@ -19,6 +19,7 @@ namespace {
 
 constexpr uint32_t kSlots = 8;              // dispatches per batch, each with its own buffers
 constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
+constexpr uint64_t kMaxStepDraws = 1u << 22;  // eye paths in a grown step at most
 
 }  // namespace
 
@@ -88,8 +89,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
     const uint64_t drawsPerStep = mutationDraws + poolDraws;
     if (drawsPerStep > std::numeric_limits<uint32_t>::max() / 2)
         throw Error("pmc-pt: --population times --mutations is too large");
-    const uint64_t maxMultiplier =
-        std::clamp<uint64_t>((std::numeric_limits<uint32_t>::max() / 2) / drawsPerStep, 1, 64);
+    // A step's host buffers (requests, results, draws: about 50 bytes an eye path) stay near
+    // 200 MB at most.
+    const uint64_t maxMultiplier = std::max<uint64_t>(1, kMaxStepDraws / drawsPerStep);
     // --spp N: N eye paths per pixel on average in all, in whole units (the schedule of step
     // sizes is fixed in advance, so the steps' weights are deterministic).
     auto unitsFor = [&](double spp) {
