@@ -178,9 +178,10 @@ PopulationMember PixelPopulation::makeMember(glm::dvec2 position) const {
     return m;
 }
 
-void PixelPopulation::drawMutations(Pcg32& rng, std::vector<PositionDraw>& out) const {
+void PixelPopulation::drawMutations(Pcg32& rng, std::vector<PositionDraw>& out,
+                                    uint32_t mutations) const {
     const int k = components();
-    const uint32_t tr = m_settings.mutations;
+    const uint32_t tr = mutations > 0 ? mutations : m_settings.mutations;
     for (uint32_t i = 0; i < m_members.size(); ++i) {
         const PopulationMember& m = m_members[i];
         const double offset = rng.nextDouble();

@@ -155,8 +155,8 @@ public:
     // of radius d_k around the member. All of a step's mutations start from the member's pixel
     // at the start of the step, so the step's expected counts are known:
     //   E[draws in pixel p] = sum_i sum_k TR alpha_ik 1[p in pixel disk k of i] / area_ik.
-    // Appends member by member, in order.
-    void drawMutations(Pcg32& rng, std::vector<PositionDraw>& out) const;
+    // Appends member by member, in order. `mutations`: TR for this step (0: the settings' TR).
+    void drawMutations(Pcg32& rng, std::vector<PositionDraw>& out, uint32_t mutations = 0) const;
     // Tags a mutation's luminance with its member and component (sec. 4.3.1, 4.3.3).
     void record(const PositionDraw& draw, double luminance);
     // Ends a resample step: every member has been used once more.

@@ -19,6 +19,7 @@ namespace {
 
 constexpr uint32_t kSlots = 8;              // dispatches per batch, each with its own buffers
 constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
+constexpr uint64_t kMaxStepDraws = 1u << 22;  // eye paths in a grown step at most
 
 }  // namespace
 
@@ -49,6 +50,9 @@ PmcPtOptions PmcPtOptions::fromSettings(const RenderSettings& s) {
     if (estimator != "steps" && estimator != "average")
         throw Error("--estimator: expected steps or average, got '" + estimator + "'");
     o.plainAverage = estimator == "average";
+    o.stepGrowth = s.optionDouble("step-growth", o.stepGrowth);
+    if (!(o.stepGrowth >= 1.0 && o.stepGrowth <= 4.0))
+        throw Error("--step-growth: expected a factor per step, 1..4");
     o.defensive = s.optionDouble("defensive", o.defensive);
     if (!(o.defensive > 0.0 && o.defensive < 1.0))
         throw Error("--defensive: expected a share of the eye paths, 0 < share < 1");
@@ -77,22 +81,34 @@ RenderOutput PmcPt::render(RenderSession& session) {
     ps.radii = o.radii;
     ps.resampleRate = o.resampleRate;
     ps.epsilon = o.epsilon;
-    // A step's draws: TR per member plus poolSpp pool draws in every pixel.
+    // The first step's draws (one unit): TR per member plus poolSpp pool draws in every pixel.
+    // Step t is m_t units: m_t TR mutations per member and m_t poolSpp pool draws per pixel.
     const uint32_t poolSpp = o.poolSpp;
     const uint64_t mutationDraws = uint64_t(ps.size) * ps.mutations;
     const uint64_t poolDraws = uint64_t(poolSpp) * pixels;
     const uint64_t drawsPerStep = mutationDraws + poolDraws;
     if (drawsPerStep > std::numeric_limits<uint32_t>::max() / 2)
         throw Error("pmc-pt: --population times --mutations is too large");
-    // --spp N: N eye paths per pixel on average in all, in whole steps of equal size (the step
-    // count is fixed in advance, so the steps' weights are deterministic).
-    auto stepsFor = [&](double spp) {
+    // A step's host buffers (requests, results, draws: about 50 bytes an eye path) stay near
+    // 200 MB at most.
+    const uint64_t maxMultiplier = std::max<uint64_t>(1, kMaxStepDraws / drawsPerStep);
+    // --spp N: N eye paths per pixel on average in all, in whole units (the schedule of step
+    // sizes is fixed in advance, so the steps' weights are deterministic).
+    auto unitsFor = [&](double spp) {
         return std::max<uint64_t>(1, uint64_t(std::llround(spp * double(pixels) /
                                                            double(drawsPerStep))));
     };
-    const uint64_t stepLimit = settings.spp > 0         ? stepsFor(double(settings.spp))
+    const uint64_t unitLimit = settings.spp > 0         ? unitsFor(double(settings.spp))
                                : settings.timeLimit > 0.0 ? std::numeric_limits<uint64_t>::max()
-                                                          : stepsFor(double(kDefaultSpp));
+                                                          : unitsFor(double(kDefaultSpp));
+    // Step sizes grow geometrically (--step-growth G: m_t = round(G^t) units, at most
+    // maxMultiplier): early steps are small, so the population adapts soon, and later ones
+    // large, so most of a pixel's samples are in few stratified sets (the step average gives up
+    // the stratification between steps; see the header).
+    auto scheduled = [&](uint64_t step) {
+        const double m = std::round(std::pow(o.stepGrowth, double(std::min<uint64_t>(step, 64))));
+        return uint64_t(std::clamp(m, 1.0, double(maxMultiplier)));
+    };
 
     // Pipelines and buffers before the clock starts.
     const vk::Kernel& kernel = session.kernel("pt");
@@ -128,7 +144,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
     DispatchSizer sizer(2048, kSlotCapacity, session.targetDispatchSeconds());
 
     // Path traces `requests` into `results` in dispatches of the sizer's size, a few per batch;
-    // false when asked to stop first.
+    // false when interrupted first. The time limit does not stop a step midway (an unfinished
+    // step is dropped whole, so its time would be spent for nothing): the loop below decides
+    // before each step whether it is to run.
     auto trace = [&](const std::vector<gpu::SampleRequest>& requests,
                      std::vector<glm::vec4>& results) {
         results.resize(requests.size());
@@ -136,7 +154,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, double(kSlots)));
         size_t done = 0;
         while (done < requests.size()) {
-            if (session.shouldStop()) return false;
+            if (session.interrupted()) return false;
             batch.fill(film.counters(), 0);
             batch.bind(session.scene().descriptorSet());
             struct Pending {
@@ -185,15 +203,16 @@ RenderOutput PmcPt::render(RenderSession& session) {
     std::vector<glm::dvec3> plainSum(pixels, glm::dvec3(0.0));
     std::vector<RunningStats> pixelLuminance(pixels);
     std::vector<std::array<uint32_t, kMaxPopulationRadii>> strategy(pixels, {0u, 0u, 0u});
-    uint64_t steps = 0, samples = 0, adaptations = 0;
+    uint64_t steps = 0, units = 0, samples = 0, adaptations = 0;
     ResampleCounts resampled;
 
     auto estimate = [&](uint32_t p) {
         if (o.plainAverage)
             return pixelLuminance[p].count > 0 ? plainSum[p] / double(pixelLuminance[p].count)
                                                : glm::dvec3(0.0);
-        // The steps' average: equal weights, which depend only on the number of steps.
-        return steps > 0 ? stepSum[p] / double(steps) : glm::dvec3(0.0);
+        // The steps' average weighted by their sizes in units, which depend only on the
+        // schedule (and, with --time, on the clock), never on radiance values.
+        return units > 0 ? stepSum[p] / double(units) : glm::dvec3(0.0);
     };
     auto resolve = [&] {
         Image image(width, height);
@@ -215,15 +234,30 @@ RenderOutput PmcPt::render(RenderSession& session) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
     const std::vector<uint32_t> mortonPixels = mortonPixelOrder(width, height);
+    // The next step's size in units: the schedule's, at most what is left of --spp, and with
+    // --time at most the units expected (from the time per unit so far) to end nearest the
+    // limit; 0 when the render is done.
+    auto nextStepUnits = [&]() -> uint64_t {
+        uint64_t m = std::min(scheduled(steps), unitLimit - units);
+        if (settings.timeLimit > 0.0 && units > 0) {
+            const double elapsed = session.elapsedSeconds();
+            const double fit = (settings.timeLimit - elapsed) / (elapsed / double(units));
+            m = std::min<uint64_t>(m, uint64_t(std::max(0.0, std::floor(fit + 0.5))));
+        }
+        return m;
+    };
     session.startClock();
-    while (steps < stepLimit && !session.shouldStop()) {
-        // The step's draws: every member's TR mutations (pixels), then poolSpp pool draws in
+    while (units < unitLimit && !session.interrupted()) {
+        const uint64_t stepUnits = nextStepUnits();
+        if (stepUnits == 0) break;
+        // The step's draws: every member's m TR mutations (pixels), then m poolSpp pool draws in
         // every pixel. How many land in each pixel depends on the past and the host's random
         // numbers only, never on this step's radiance values.
         auto hostStart = std::chrono::steady_clock::now();
+        const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
         draws.clear();
-        population.drawMutations(rng, draws);
-        std::fill(count.begin(), count.end(), poolSpp);
+        population.drawMutations(rng, draws, ps.mutations * uint32_t(stepUnits));
+        std::fill(count.begin(), count.end(), stepPoolSpp);
         for (const PositionDraw& d : draws) ++count[d.pixel];
         // Pixel p's samples are points 0 .. count_p - 1 of its sequence, scrambled afresh for the
         // step (the step's seed): the pool draws first, then the members' in draw order.
@@ -234,13 +268,13 @@ RenderOutput PmcPt::render(RenderSession& session) {
         }
         requests.resize(total);
         drawOf.assign(total, PositionDraw::kPool);
-        for (uint32_t p = 0; p < pixels; ++p) next[p] = first[p] + poolSpp;
+        for (uint32_t p = 0; p < pixels; ++p) next[p] = first[p] + stepPoolSpp;
         for (uint32_t j = 0; j < draws.size(); ++j) drawOf[next[draws[j].pixel]++] = j;
         for (uint32_t p : mortonPixels)
             for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
         push.seed = stepSeeds.nextUint();
         hostSeconds += since(hostStart);
-        if (!trace(requests, results)) break;  // an unfinished step is dropped whole
+        if (!trace(requests, results)) break;  // interrupted: an unfinished step is dropped whole
         hostStart = std::chrono::steady_clock::now();
 
         // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
@@ -257,7 +291,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
                     ++strategy[p][draws[j].component];
                 }
             }
-            stepSum[p] += sum / double(count[p]);
+            stepSum[p] += double(stepUnits) * sum / double(count[p]);
             plainSum[p] += sum;
         }
         // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
@@ -265,6 +299,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
         samples += total;
         ++steps;
+        units += stepUnits;
         population.endStep();
 
         // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
@@ -285,8 +320,8 @@ RenderOutput PmcPt::render(RenderSession& session) {
         hostSeconds += since(hostStart);
 
         const double sppDone = double(samples) / double(pixels);
-        const double fraction = stepLimit != std::numeric_limits<uint64_t>::max()
-                                    ? double(steps) / double(stepLimit)
+        const double fraction = unitLimit != std::numeric_limits<uint64_t>::max()
+                                    ? double(units) / double(unitLimit)
                                     : session.elapsedSeconds() / settings.timeLimit;
         session.progress().update(fraction, sppDone, "spp");
         session.snapshotIfDue(samples, resolve);
@@ -325,7 +360,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
         {"mutations", ps.mutations},
         {"radii", radii},
         {"pool_spp", poolSpp},
-        {"eye_paths_per_step", drawsPerStep},
+        {"eye_paths_per_unit", drawsPerStep},
+        {"step_growth", o.stepGrowth},
+        {"units", units},
         {"resample_steps", steps},
         {"adaptations", adaptations},
         {"mean_alpha", alpha},

@@ -26,9 +26,14 @@
 // and the host's random numbers), and given n_p they are points of a freshly scrambled sequence,
 // each uniform over the pixel. So the step's plain average I_t(p) = (1/n_p) sum L(x_i) has
 // E[I_t(p) | past] = I_p, the pixel value (n_p >= poolSpp >= 1: the pool samples keep every
-// pixel covered), and the image is the average of the steps' I_t with equal weights, which
-// depend only on the number of steps: unbiased. It gives up the paper's weighting of steps by
-// their sample counts, which costs little where the counts vary slowly from step to step.
+// pixel covered), and the image is the average of the steps' I_t weighted by the steps' sizes
+// m_t (in units of the first step), which depend only on a schedule fixed in advance: unbiased.
+// (With --time the last step's size and the number of steps come from the clock, as pt's last
+// pass does.) It gives up the paper's weighting of samples by per-pixel counts, which costs
+// little where the counts vary slowly from step to step, and the stratification between steps:
+// each step is one stratified set per pixel, the steps are independent. That loss grows with
+// the number of steps, so the steps grow: m_t = round(G^t) (--step-growth, 1.5), small at first
+// so that the population adapts soon, large later so that most samples are in a few sets.
 // "Given the past" also needs each step's random numbers to be independent of the earlier
 // steps', hence the fresh scramble per step. (A first version weighted each sample by the
 // inverse of its expected count, the D-kernel estimator of the paper's eq. 1, with a control
@@ -51,16 +56,19 @@
 // on 4 others at equal samples): x1.27 in P-Err on cornell-glass 128x128 and x1.10 on
 // cornell-specular, against pmcr's path tracer, whose samples are stratified in every dimension;
 // most of their error is rare bright paths, which no allocation predicts. (MIS direct lighting on
-// dragon-direct 160x80: x3.4.) PMC-PT pays for its adaptation with steps of about 8 samples per
-// pixel instead of one 64-sample stratified set (pt's own renders, 8 merged renders of 8 spp
-// against one of 64: P-Err +2% on cornell-glass, +3% on cornell-specular), so on
+// dragon-direct 160x80: x3.4.) PMC-PT pays for its adaptation with steps of a few samples per
+// pixel instead of one stratified set (pt's own renders, 8 merged renders of 8 spp against one
+// of 64: P-Err +2% on cornell-glass, +3% on cornell-specular; more at more steps), so on
 // cornell-specular it can at best break even.
 //
 // Other departures from the paper, each so that the step's counts do not depend on its values
 // and are positive: a step's TR mutations of a member all start from the member's pixel (members move by
 // resampling), their radii are chosen systematically (about TR alpha_k each), the pool samples
-// are an addition, and the steps are larger (pool 4 spp plus as many member samples: about 30
-// times the paper's 5000 x 16 eye paths at 640x480), so alpha and beta adapt after every step.
+// are an addition, and the steps are larger (the first: pool 4 spp plus as many member samples,
+// about 30 times the paper's 5000 x 16 eye paths at 640x480; later ones m_t times that, with
+// m_t TR mutations per member), so alpha and beta adapt after every step. With --time a render
+// ends at the step boundary nearest the limit (the last step sized to fit): a step cut by the
+// limit would be dropped whole, its time spent for nothing.
 #pragma once
 
 #include "render/integrator.h"
@@ -78,6 +86,8 @@ struct PmcPtOptions {
     double epsilon = 0.01;
     double defensive = 0.5;         // share of a step's eye paths drawn from the pool (sets
                                     // the population unless --population is given)
+    double stepGrowth = 1.5;        // step t is m_t = round(G^t) units (first steps), m_t TR
+                                    // mutations per member and m_t poolSpp per pixel
     bool plainAverage = false;      // --estimator average: the paper's per-pixel average (biased)
                                     // instead of the average of step averages
 

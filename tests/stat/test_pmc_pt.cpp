@@ -49,10 +49,12 @@ TEST_F(PmcPtTest, TakesTheEyePathsAskedForAndWritesItsDiagnostics) {
     RenderSettings s = pmcPtSettings(32, 8);
     auto r = renderForTest(scene, s);
     const auto& m = r.stats["method_stats"];
-    const uint64_t perStep = m["eye_paths_per_step"].get<uint64_t>();
-    const uint64_t steps = m["resample_steps"].get<uint64_t>();
-    EXPECT_EQ(r.output.cameraSamples, perStep * steps);
-    EXPECT_NEAR(r.output.samplesPerPixel, 8.0, 0.5 * double(perStep) / (32.0 * 32.0));
+    const uint64_t perUnit = m["eye_paths_per_unit"].get<uint64_t>();
+    const uint64_t units = m["units"].get<uint64_t>();
+    EXPECT_EQ(r.output.cameraSamples, perUnit * units);
+    EXPECT_NEAR(r.output.samplesPerPixel, 8.0, 0.5 * double(perUnit) / (32.0 * 32.0));
+    // The steps grow (1, 2, 2, 3, ... units at --step-growth 1.5), so fewer steps than units.
+    EXPECT_LT(m["resample_steps"].get<uint64_t>(), units);
     ASSERT_EQ(r.output.diagnostics.size(), 2u);
     EXPECT_EQ(r.output.diagnostics[0].first, "strategy");
     EXPECT_EQ(r.output.diagnostics[1].first, "density");
