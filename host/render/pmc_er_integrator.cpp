@@ -30,18 +30,6 @@ constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
 // 16384 0.41 (README, PMC-ER).
 constexpr uint32_t kPixelsPerMember = 4;
 
-// The slots of the members with energy, ordered by their current pixel (then slot).
-std::vector<uint32_t> activeMembers(const std::vector<gpu::PmcErMember>& state) {
-    std::vector<uint32_t> list;
-    list.reserve(state.size());
-    for (uint32_t i = 0; i < uint32_t(state.size()); ++i)
-        if (state[i].remaining > 0.0f) list.push_back(i);
-    std::sort(list.begin(), list.end(), [&](uint32_t a, uint32_t b) {
-        return state[a].pixel != state[b].pixel ? state[a].pixel < state[b].pixel : a < b;
-    });
-    return list;
-}
-
 }  // namespace
 
 PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
