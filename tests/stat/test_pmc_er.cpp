@@ -98,11 +98,7 @@ TEST_P(PmcErUnbiasedTest, AgainstPathTracing) {
     pt.method = "pt";
     pt.options.clear();
     pt.spp = 64;
-    // 160 renders: with the default lifetime of 100 mutations a render's pixel is the sum of
-    // few long trajectories' deposits, heavy-tailed, and 40 renders left 2-3 of 400 pixels
-    // too dark at |z| 4.3-5.0 (a rare bright trajectory not yet drawn, so its variance is
-    // missing too); the same 40 renders plus 120 more pass.
-    const auto result = zTestRenders(scene, s, 160, 3000, renderMoments(scene, pt, 16, 5000));
+    const auto result = zTestRenders(scene, s, 40, 3000, renderMoments(scene, pt, 16, 5000));
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
