@@ -1,5 +1,5 @@
 #version 460
-// PMC-ER: members [memberBase, memberBase + memberCount) make push.steps mutations each
+// PMC-ER: the members activeList[memberBase, memberBase + memberCount) make push.steps mutations each
 // (PMC-ER fig. 2 lines 8-12, equal deposition). Each mutation picks a radius d_k by the member's
 // alpha (eq. 5), then a caustic perturbation with probability gamma_caustic where it applies
 // (angles uniform in [0, thetaMax(d_k)], eq. 6) or a lens perturbation in the disk of radius
@@ -28,6 +28,9 @@ layout(set = WORK_SET, binding = PMC_ER_BINDING_MEMBERS, scalar) buffer MemberBu
 layout(set = WORK_SET, binding = PMC_ER_BINDING_STRATEGY, scalar) buffer StrategyBuffer {
     uint strategy[];
 };
+layout(set = WORK_SET, binding = PMC_ER_BINDING_ACTIVE, scalar) readonly buffer ActiveBuffer {
+    uint activeList[];
+};
 
 // Component k with probability alpha_k.
 uint chooseComponent(vec3 alpha, float u) {
@@ -48,7 +51,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     StepCounters counters = stepCountersCreate();
     if (i < push.memberCount) {
-        uint member = push.memberBase + i;
+        uint member = activeList[push.memberBase + i];
         PmcErMember m = members[member];
         if (m.remaining > 0.0) {
             ChainState st = chains[member];
@@ -84,6 +87,7 @@ void main() {
                 m.mutations += 1u;
             }
             st.rng = rng.state;
+            m.pixel = rasterPixel(st.raster);
             chains[member] = st;
             members[member] = m;
         }

@@ -65,6 +65,7 @@ void main() {
         m.acceptSum = vec3(0.0);
         m.mutations = 0u;
         m.shares = 0.0;
+        m.pixel = rec.pixel;
         ChainState st;
         st.vertexCount = 0u;
         if (total > 0.0) {

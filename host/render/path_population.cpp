@@ -51,6 +51,17 @@ std::vector<bool> systematicSample(const std::vector<double>& p, double u) {
     return chosen;
 }
 
+std::vector<uint32_t> activeMembers(const std::vector<gpu::PmcErMember>& members) {
+    std::vector<uint32_t> list;
+    list.reserve(members.size());
+    for (uint32_t i = 0; i < uint32_t(members.size()); ++i)
+        if (members[i].remaining > 0.0f) list.push_back(i);
+    std::sort(list.begin(), list.end(), [&](uint32_t a, uint32_t b) {
+        return members[a].pixel != members[b].pixel ? members[a].pixel < members[b].pixel : a < b;
+    });
+    return list;
+}
+
 PathPopulation::PathPopulation(uint32_t size, int components, double resampleRate, double epsilon)
     : m_size(size), m_components(components), m_epsilon(epsilon) {
     if (size == 0) throw Error("--population: expected at least one member");

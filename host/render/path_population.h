@@ -54,6 +54,10 @@ std::vector<double> survivalProbabilities(const std::vector<double>& energy, uin
 // integer n): exactly n members, member i with probability p_i. `u` is uniform in [0, 1).
 std::vector<bool> systematicSample(const std::vector<double>& p, double u);
 
+// The slots of the members with energy (E_remain > 0), ordered by their current pixel, then
+// slot: the list the mutation kernel runs through (shared/pmc_er_types.h PMC_ER_BINDING_ACTIVE).
+std::vector<uint32_t> activeMembers(const std::vector<gpu::PmcErMember>& members);
+
 struct PathResampleResult {
     std::vector<uint32_t> regenerate;  // slots to refill from the pool, in ascending order
     uint32_t eliminated = 0;           // members eliminated (with and without energy)

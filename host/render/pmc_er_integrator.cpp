@@ -143,6 +143,8 @@ RenderOutput PmcEr::render(RenderSession& session) {
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er path vertices");
     vk::Buffer members(context, VkDeviceSize(population) * sizeof(gpu::PmcErMember), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        "pmc-er members", vk::MemoryUsage::Readback);
+    vk::Buffer active(context, VkDeviceSize(population) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      "pmc-er active members");
     vk::Buffer strategy(context, VkDeviceSize(pixels) * gpu::PMC_ER_MAX_RADII * sizeof(uint32_t),
                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er strategy");
     strategy.fill(0);
@@ -165,6 +167,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     work.bind(gpu::PMC_ER_BINDING_MEMBERS, members);
     work.bind(gpu::PMC_ER_BINDING_STRATEGY, strategy);
     work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
+    work.bind(gpu::PMC_ER_BINDING_ACTIVE, active);
 
     gpu::PtPush ptPush{};
     ptPush.source = gpu::PT_SOURCE_LIST;
@@ -272,17 +275,28 @@ RenderOutput PmcEr::render(RenderSession& session) {
             slots.swap(empty);
         }
     };
-    // Records `steps` mutations of every member, in dispatches of members the sizer keeps short.
+    // Records `steps` mutations of every member with energy, in dispatches the sizer keeps short.
+    // The members go through a list of those with energy in the order of their current pixels:
+    // dispatching every slot left invocations idle on dead members (most of them late in a
+    // pass), and slots in birth order made neighbouring invocations trace paths far apart in
+    // the image. Which invocation runs a member changes none of its random numbers: same image.
+    uint64_t activeSteps = 0;  // member steps dispatched (mutations made, or fewer at death)
     auto mutate = [&](uint32_t steps) {
+        flush();
+        const std::vector<uint32_t> list = activeMembers(members.download<gpu::PmcErMember>(population));
+        if (list.empty()) return;
+        active.upload(list);
+        const uint32_t count = uint32_t(list.size());
         for (uint32_t done = 0; done < steps;) {
             push.steps = std::min(o.stepsPerDispatch, steps - done);
-            for (uint32_t m = 0; m < population;) {
+            for (uint32_t m = 0; m < count;) {
                 open();
                 batch.bind(work);
                 push.memberBase = m;
-                push.memberCount = std::min(sizer.units(), population - m);
+                push.memberCount = std::min(sizer.units(), count - m);
                 batch.dispatch(mutateKernel, push, push.memberCount);
                 batchUnits += uint64_t(push.memberCount) * push.steps / o.stepsPerDispatch;
+                activeSteps += uint64_t(push.memberCount) * push.steps;
                 m += push.memberCount;
                 if (++inBatch >= perBatch) flush();
             }
@@ -423,6 +437,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
         {"deposit_energy", depositEnergy},
         {"mutations", c.values[gpu::COUNTER_LENS_PROPOSED] + c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
         {"member_mutations", mutationsRun},  // as counted by the members (= mutations)
+        {"active_member_steps", activeSteps},  // invocation steps dispatched, >= mutations
         {"eliminated", eliminated},
         {"mean_final_alpha", meanAlpha},
         // In units of e_d, completed passes and any interrupted one.

@@ -11,8 +11,9 @@ struct PmcErMember {
     vec3 acceptSum;      // alpha'_k: sum of acceptance probabilities per component (sec. 4.5)
     uint mutations;      // mutations made since the last count (the host resets it)
     float shares;        // e_d per deposit: 1 with the paper's births; n with equal births
+    uint pixel;          // the current path's pixel: the host orders the active list by it
 };
-PMCR_CHECK_SIZE(PmcErMember, 36);
+PMCR_CHECK_SIZE(PmcErMember, 40);
 
 // How a member is born from a path of energy E (units of e_d), PmcErPush.birthEnergy.
 PMCR_CONST uint PMC_ER_BIRTH_EQUAL = 0;  // E_remain = Q, shares n = floor(U + E / Q) (n = 0: none)
@@ -25,10 +26,14 @@ PMCR_CONST uint PMC_ER_FLAG_MIXTURE_ACCEPTANCE = 16u;  // eq. 8 over the radii, 
 PMCR_CONST uint PMC_ER_BINDING_MEMBERS = 10;     // PmcErMember[population]
 PMCR_CONST uint PMC_ER_BINDING_STRATEGY = 11;    // uint[pixel * 3 + component]: mutations made there
 PMCR_CONST uint PMC_ER_BINDING_SEED_SLOTS = 12;  // uint[]: member slot of each new path's record
+// uint[]: the members with energy, ordered by their current pixel; mutate's invocation i works
+// on member activeList[memberBase + i]. Neighbouring invocations then trace neighbouring paths
+// (coherent traversal on a SIMD device) and no invocation idles on a dead member.
+PMCR_CONST uint PMC_ER_BINDING_ACTIVE = 13;
 
 struct PmcErPush {
-    uint memberBase;         // mutate/finish: first member of this dispatch
-    uint memberCount;        // members in this dispatch (seed: new paths)
+    uint memberBase;         // mutate: first entry of the active list; finish: first member
+    uint memberCount;        // entries (mutate), members (finish) or new paths (seed)
     uint steps;              // mutate: mutations per member in this dispatch
     uint seed;
     uint pass;

@@ -1,7 +1,8 @@
 // PMC-ER's host side (render/path_population.h) on hand-made populations: the alpha update
 // against the paper's formula, the survival probabilities (proportional to remaining energy,
 // capped at one, summing to the survivors), systematic sampling's inclusion frequencies
-// (chi-square) and the energy invariant of elimination (survivors carry E / p).
+// (chi-square), the energy invariant of elimination (survivors carry E / p) and the list of
+// living members the mutation kernel runs through.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -101,6 +102,16 @@ TEST(PathPopulation, EliminationSurvivalStatisticsAndEnergy) {
         const double se = energy[i] * std::sqrt((1.0 - p[i]) / p[i] / trials);
         EXPECT_NEAR(mean, energy[i], 5.0 * se + 1e-5 * energy[i]) << "member " << i;
     }
+}
+
+TEST(PathPopulation, ActiveListHasTheLivingMembersInPixelOrder) {
+    std::vector<gpu::PmcErMember> members = {member(2.0f), member(0.0f), member(0.5f), member(-1.0f),
+                                             member(7.0f), member(1.0f)};
+    const uint32_t pixels[] = {40, 3, 12, 1, 12, 5};
+    for (size_t i = 0; i < members.size(); ++i) members[i].pixel = pixels[i];
+    // Dead members (E <= 0) left out; ties in pixel keep slot order.
+    EXPECT_EQ(activeMembers(members), (std::vector<uint32_t>{5, 2, 4, 0}));
+    EXPECT_TRUE(activeMembers({member(0.0f), member(-2.0f)}).empty());
 }
 
 TEST(PathPopulation, DeadMembersAreRegeneratedFirst) {
