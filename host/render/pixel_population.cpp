@@ -16,24 +16,6 @@ double RunningStats::variance() const {
     return std::max(0.0, (sumSq - sum * sum / n) / (n - 1.0));
 }
 
-int pixelDiskHalfWidth(int dy, double r) {
-    const double s = r * r - double(dy) * double(dy);
-    return s < 0.0 ? -1 : int(std::floor(std::sqrt(s)));
-}
-
-uint32_t pixelDiskCount(glm::ivec2 c, double r, int w, int h) {
-    const int R = int(std::floor(r));
-    uint32_t count = 0;
-    for (int dy = -R; dy <= R; ++dy) {
-        const int y = c.y + dy;
-        if (y < 0 || y >= h) continue;
-        const int hw = pixelDiskHalfWidth(dy, r);
-        const int x0 = std::max(0, c.x - hw), x1 = std::min(w - 1, c.x + hw);
-        if (x1 >= x0) count += uint32_t(x1 - x0 + 1);
-    }
-    return count;
-}
-
 glm::ivec2 samplePixelDisk(glm::ivec2 c, double r, int w, int h, Pcg32& rng) {
     const int R = int(std::floor(r));
     const int x0 = std::max(0, c.x - R), x1 = std::min(w - 1, c.x + R);
@@ -170,11 +152,7 @@ PopulationMember PixelPopulation::makeMember(glm::dvec2 position) const {
     m.pixel = glm::ivec2(std::clamp(int(std::floor(position.x)), 0, m_width - 1),
                          std::clamp(int(std::floor(position.y)), 0, m_height - 1));
     const int k = components();
-    for (int c = 0; c < k; ++c) {
-        m.alpha[size_t(c)] = 1.0 / double(k);
-        m.area[size_t(c)] =
-            double(pixelDiskCount(m.pixel, m_settings.radii[size_t(c)], m_width, m_height));
-    }
+    for (int c = 0; c < k; ++c) m.alpha[size_t(c)] = 1.0 / double(k);
     return m;
 }
 

@@ -49,10 +49,6 @@ struct RunningStats {
 // pixel's own stratified sequence (see render/pmc_pt_integrator.h), so a step's proposal density
 // is constant over each pixel and the path tracer keeps its stratification.
 
-// Half-width of the pixel disk's row dy: offsets |dx| <= floor(sqrt(r^2 - dy^2)); -1 outside.
-int pixelDiskHalfWidth(int dy, double r);
-// Number of pixels in the pixel disk of radius r at c, clipped to the w x h image.
-uint32_t pixelDiskCount(glm::ivec2 c, double r, int w, int h);
 // A uniform pixel of that clipped pixel disk (by rejection from its bounding square).
 glm::ivec2 samplePixelDisk(glm::ivec2 c, double r, int w, int h, Pcg32& rng);
 
@@ -126,7 +122,6 @@ struct PositionDraw {
 struct PopulationMember {
     glm::ivec2 pixel{0};
     std::array<double, kMaxPopulationRadii> alpha{};
-    std::array<double, kMaxPopulationRadii> area{};  // pixels in pixel disk k, for the density
     uint32_t stepsUsed = 0;  // N_used: resample steps since (re)generation
     std::array<RunningStats, kMaxPopulationRadii> tagged{};  // luminance per component since then
     RunningStats all() const;
@@ -154,7 +149,7 @@ public:
     // component's expected count is exactly TR alpha_k), then a uniform pixel of the pixel disk
     // of radius d_k around the member. All of a step's mutations start from the member's pixel
     // at the start of the step, so the step's expected counts are known:
-    //   E[draws in pixel p] = sum_i sum_k TR alpha_ik 1[p in pixel disk k of i] / area_ik.
+    //   E[draws in pixel p] = sum_i sum_k TR alpha_ik 1[p in pixel disk k of i] / |pixel disk k of i|.
     // Appends member by member, in order. `mutations`: TR for this step (0: the settings' TR).
     void drawMutations(Pcg32& rng, std::vector<PositionDraw>& out, uint32_t mutations = 0) const;
     // Tags a mutation's luminance with its member and component (sec. 4.3.1, 4.3.3).
@@ -177,7 +172,6 @@ public:
 
     // A member at the pixel containing raster `position`, with uniform alpha and no history.
     PopulationMember makeMember(glm::dvec2 position) const;
-
 
 private:
     PopulationSettings m_settings;

@@ -160,6 +160,10 @@ float pdfDielectric(Bsdf b, vec3 wo, vec3 wi) {
 }
 
 // ---- The mixture -----------------------------------------------------------------------------
+// bsdfEval and bsdfPdf sum the lobes above one by one: the plain statement of the mixture, which
+// tests/gpu/test_bsdf.cpp checks against integrals and sampled directions. The kernels call
+// bsdfEvalPdf, the same sums with the terms the lobes share computed once, and the test checks
+// it against these two at every sampled direction.
 
 // f(wo, wi) of all non-delta lobes.
 vec3 bsdfEval(Bsdf b, vec3 wo, vec3 wi) {

@@ -3,7 +3,8 @@
 //   - directions bsdfSample draws through non-delta lobes follow bsdfPdf (chi-square over graded
 //     cells of the sphere), delta samples come with the frequency of their discrete probability;
 //   - bsdfPdf integrates to 1 minus the delta probability minus the share of failed samples;
-//   - a non-delta sample carries bsdfEval and bsdfPdf of its direction;
+//   - a non-delta sample carries bsdfEval and bsdfPdf of its direction (its f and pdf come from
+//     bsdfEvalPdf, the kernels' one-pass form, so this checks that against the lobe-by-lobe sums);
 //   - the directional albedo (energy, transmission scaled back by eta^2) is at most 1, exactly 1
 //     for white smooth glass and the base colour for the Lambertian;
 //   - f is reciprocal for reflection and obeys f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 for
