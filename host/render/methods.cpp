@@ -89,7 +89,7 @@ const std::vector<MethodInfo>& methods() {
           {"caustic-probability", "0.9", "gamma_caustic: chance of a caustic perturbation where it applies"},
           {"pass-spp", "4", "pool paths per pixel per pass, exactly that many in every pixel (sets the iterations); passes are averaged"},
           {"acceptance", "component", "component: each radius's own transition density (eq. 9); mixture: the density of the whole radius mixture (eq. 8)"},
-          {"lifetime", "20", "Q, mutations a member of equal births lives (auto: the mean pool path energy in deposits, as the paper's mutations per iteration imply)"},
+          {"lifetime", "100", "Q, mutations a member of equal births lives (auto: the mean pool path energy in deposits, as the paper's mutations per iteration imply)"},
           {"refill-rounds", "8", "times a slot left empty by a birth without energy is refilled from the pool at once (1: never)"},
           {"redistribute", "indirect", "indirect: seed paths with at most one scattering vertex are deposited at their pixel, the rest make members; all: every path (the paper)"},
           {"prepass-spp", "4", "path-traced samples per pixel estimating the image energy"},

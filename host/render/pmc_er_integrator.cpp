@@ -62,7 +62,7 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     const std::string acceptance = s.optionString("acceptance", "component");
     if (acceptance == "mixture") o.mixtureAcceptance = true;
     else if (acceptance != "component") throw Error("--acceptance: expected mixture or component, got '" + acceptance + "'");
-    const std::string lifetime = s.optionString("lifetime", "20");
+    const std::string lifetime = s.optionString("lifetime", "100");
     if (lifetime == "auto") {
         o.lifetime = 0.0;
     } else {

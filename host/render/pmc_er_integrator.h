@@ -45,7 +45,7 @@ struct PmcErOptions {
     uint32_t passSpp = 4;            // pool positions per pixel per pass (rounds of the pool)
     bool depositDirect = true;       // --redistribute indirect: direct seed paths at their pixel
     bool mixtureAcceptance = false;  // eq. 8 over the radii instead of eq. 9
-    double lifetime = 20.0;          // Q of equal births in mutations; 0: auto (mean path energy)
+    double lifetime = 100.0;         // Q of equal births in mutations; 0: auto (mean path energy)
     uint32_t refillRounds = 8;       // regenerations of slots left empty by a birth without shares
     uint32_t prepassSpp = 4;
     uint32_t stepsPerDispatch = 4;
