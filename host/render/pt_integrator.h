@@ -1,7 +1,8 @@
 // Path tracing (`pt`) and MIS direct lighting (`direct`): progressive passes of one sample per
-// pixel, each pass split into dispatches over pixel ranges. One writer per pixel per dispatch
-// and one sample per pixel per pass make the film sums independent of how the passes are split,
-// so a fixed seed and sample count give the same image bit for bit on a given device.
+// pixel, each pass split into dispatches over pixel ranges (or, on small images, several whole
+// passes per dispatch). One writer per pixel per dispatch, adding its samples to the film one by
+// one in pass order, makes the film sums independent of how the passes are split, so a fixed
+// seed and sample count give the same image bit for bit on a given device.
 // `pmc-hi` is the same loop with PMC-HI adaptive direct lighting (shaders/pmc_hi.comp) in place
 // of MIS direct lighting.
 #pragma once

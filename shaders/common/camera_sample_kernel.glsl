@@ -25,19 +25,21 @@ void main() {
     if (i < push.invocationCount) {
         if (push.source == PT_SOURCE_TILE) {
             // One invocation per pixel, all its samples: each pixel has one writer per dispatch,
-            // so the film sums are deterministic.
+            // so the film sums are deterministic. Each sample goes to the film on its own, in
+            // order, so the sums are the same bit for bit however the samples are split into
+            // dispatches.
             uint pixel = push.pixelOffset + i;
-            PixelAccumulator acc = accumulatorCreate();
             for (uint k = 0u; k < push.samplesPerPixel; ++k) {
                 Sampler s = samplerCreate(pixel, push.sampleBase + k, push.seed);
                 vec2 raster = pixelCorner(pixel) + samplerGet2D(s);
+                PixelAccumulator acc = accumulatorCreate();
                 accumulatorAdd(acc, estimateRadiance(raster, s, rays,
                                                      push.recordOffset + i * push.samplesPerPixel + k));
+                if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
+                    filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
+                dropped += acc.dropped;
+                paths += acc.count;
             }
-            if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
-                filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
-            dropped = acc.dropped;
-            paths = acc.count;
         } else {
             SampleRequest r = requests[push.requestOffset + i];
             Sampler s = samplerCreate(r.pixel, r.sampleIndex, push.seed);
