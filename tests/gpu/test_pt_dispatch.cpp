@@ -1,0 +1,76 @@
+// The per-camera-sample kernels with PT_SOURCE_TILE (shaders/common/camera_sample_kernel.glsl):
+// several passes in one dispatch (samplesPerPixel > 1, as pt does on small images) must leave
+// the film exactly as one dispatch per pass does, so an image does not depend on how the
+// dispatch sizer, which follows the clock, split the passes.
+#include <gtest/gtest.h>
+
+#include "gpu_test.h"
+#include "render/session.h"
+#include "render_test.h"
+#include "vk/command_batch.h"
+
+namespace pmcr::test {
+namespace {
+
+class PtDispatch : public GpuTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(PtDispatch, SeveralPassesInOneDispatchGiveTheSameFilm) {
+    const Scene& scene = testScene("scenes/cornell-spheres.glb");
+    RenderSettings settings;
+    settings.width = 24;
+    settings.height = 24;
+    RenderSession session(context(), scene, settings, 24, 24);
+    const uint32_t pixels = 24 * 24;
+    const uint32_t passes = 5;
+
+    vk::Kernel kernel(session.layout(), GetParam());
+    Film& film = session.film();
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "dispatch test work");
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
+    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.invocationCount = pixels;
+    push.seed = 7;
+    push.maxDepth = 8;
+    push.rrDepth = 3;
+    push.lightSamples = 2;
+    // Passes 3 .. 3 + passes - 1 in `perDispatch` passes per dispatch.
+    auto render = [&](uint32_t perDispatch) {
+        film.clear();
+        vk::CommandBatch batch(session.layout());
+        batch.bind(session.scene().descriptorSet());
+        batch.bind(work);
+        for (uint32_t pass = 0; pass < passes; pass += perDispatch) {
+            push.sampleBase = 3 + pass;
+            push.samplesPerPixel = std::min(perDispatch, passes - pass);
+            batch.dispatch(kernel, push, pixels);
+        }
+        batch.submitAndWait();
+        return film.download();
+    };
+    const auto onePerDispatch = render(1);
+    const auto allInOne = render(passes);
+    const auto twoPerDispatch = render(2);
+    double total = 0.0;
+    for (uint32_t i = 0; i < pixels; ++i) {
+        ASSERT_EQ(onePerDispatch[i].sampleCount, passes) << "pixel " << i;
+        for (const auto* other : {&allInOne, &twoPerDispatch}) {
+            ASSERT_EQ(onePerDispatch[i].sum, (*other)[i].sum) << "pixel " << i;
+            ASSERT_EQ(onePerDispatch[i].lumSum, (*other)[i].lumSum) << "pixel " << i;
+            ASSERT_EQ(onePerDispatch[i].lumSqSum, (*other)[i].lumSqSum) << "pixel " << i;
+            ASSERT_EQ(onePerDispatch[i].sampleCount, (*other)[i].sampleCount) << "pixel " << i;
+        }
+        total += onePerDispatch[i].sum.x;
+    }
+    EXPECT_GT(total, 0.0);  // the image is not black
+}
+
+INSTANTIATE_TEST_SUITE_P(Kernels, PtDispatch, ::testing::Values("pt", "direct"));
+
+}  // namespace
+}  // namespace pmcr::test
