@@ -57,7 +57,7 @@ RenderOutput PathTracer::render(RenderSession& session) {
     // A dispatch is part of a pass, or whole passes when one pass is less work than the sizer
     // asks for (small images): each invocation then takes that many consecutive samples of its
     // pixel, still one writer per pixel per dispatch, so a 64x64 pass does not pay a dispatch's
-    // fixed cost and tail on its own (a fifth to a third of the time per ray on lavapipe).
+    // fixed cost and tail on its own (measured: about 12% of the rays per second on lavapipe).
     constexpr uint32_t kMaxPassesPerDispatch = 64;
     DispatchSizer sizer(std::min<uint32_t>(pixels, 4096),
                         uint32_t(std::min<uint64_t>(uint64_t(pixels) * kMaxPassesPerDispatch,

@@ -29,7 +29,7 @@ PMCR_CONST uint PT_BINDING_PATH_RECORDS = 4; // PathRecord[] (PT_FLAG_RECORD_PAT
 PMCR_CONST uint PT_BINDING_PATH_VERTICES = 5;// PathVertex[] (PT_FLAG_RECORD_PATHS)
 
 // Where a path tracing dispatch gets its camera samples from.
-PMCR_CONST uint PT_SOURCE_TILE = 0;    // invocation i: pixel pixelOffset + i / spp, sample sampleBase + i % spp
+PMCR_CONST uint PT_SOURCE_TILE = 0;    // invocation i: pixel pixelOffset + i, samples sampleBase .. + samplesPerPixel - 1
 PMCR_CONST uint PT_SOURCE_LIST = 1;    // invocation i: requests[i] names the pixel and its sample index
 PMCR_CONST uint PT_SOURCE_POINTS = 2;  // invocation i: requests[i] gives a raster position
 
