@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 
 #include "core/error.h"
@@ -87,11 +88,17 @@ RenderOutput PathTracer::render(RenderSession& session) {
         const double dispatchesPerBatch =
             std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds());
         uint64_t batchSamples = 0;
-        for (int d = 0; d < int(dispatchesPerBatch) && pass < spp; ++d) {
+        // The batch ends at the next scheduled snapshot's pass, so the snapshot is the image of
+        // exactly that many passes even when a dispatch holds several.
+        const double snapshotSpp = session.nextSnapshotSpp();
+        const uint32_t batchEnd = snapshotSpp > double(pass) && snapshotSpp < double(spp)
+                                      ? uint32_t(std::ceil(snapshotSpp))
+                                      : spp;
+        for (int d = 0; d < int(dispatchesPerBatch) && pass < batchEnd; ++d) {
             uint32_t count = std::min(sizer.units(), pixels - offset);
             uint32_t passes = 1;
             if (offset == 0 && sizer.units() >= 2 * pixels) {
-                passes = std::min(sizer.units() / pixels, spp - pass);
+                passes = std::min(sizer.units() / pixels, batchEnd - pass);
                 count = pixels;
             }
             push.pixelOffset = offset;

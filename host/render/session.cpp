@@ -1,9 +1,12 @@
 #include "render/session.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 #include "core/interrupt.h"
+#include "vk/command_batch.h"
 #include "vk/context.h"
 
 namespace pmcr {
@@ -20,7 +23,28 @@ RenderSession::RenderSession(vk::Context& context, const Scene& scene,
     m_start = std::chrono::steady_clock::now();
 }
 
-void RenderSession::startClock() { m_start = std::chrono::steady_clock::now(); }
+const vk::Kernel& RenderSession::kernel(const std::string& name) {
+    const vk::Kernel& k = m_context.kernel(name);
+    if (std::find(m_kernels.begin(), m_kernels.end(), &k) == m_kernels.end()) m_kernels.push_back(&k);
+    return k;
+}
+
+void RenderSession::startClock() {
+    // One workgroup of each kernel with all push constants zero: every kernel's invocation
+    // count (invocationCount, memberCount, chainCount, recordCount) is then 0, so it does no
+    // work, and the work set's bindings all point at the placeholder.
+    if (!m_kernels.empty()) {
+        vk::DescriptorSet idle(layout(), vk::DescriptorSet::Kind::Work, "warm-up work");
+        for (uint32_t b = 0; b < gpu::WORK_BINDING_COUNT; ++b) idle.bind(b, m_placeholder);
+        vk::CommandBatch batch(layout());
+        batch.bind(m_scene->descriptorSet());
+        batch.bind(idle);
+        const std::array<uint8_t, gpu::PUSH_CONSTANT_BYTES> zero{};
+        for (const vk::Kernel* k : m_kernels) batch.dispatch(*k, zero.data(), uint32_t(zero.size()), 1);
+        batch.submitAndWait();
+    }
+    m_start = std::chrono::steady_clock::now();
+}
 
 double RenderSession::elapsedSeconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
@@ -56,6 +80,12 @@ void RenderSession::snapshotIfDue(uint64_t cameraSamples, const std::function<Im
     const auto cost = std::chrono::steady_clock::now() - start;
     m_start += std::chrono::duration_cast<std::chrono::steady_clock::duration>(cost);
     m_snapshotOverhead += std::chrono::duration<double>(cost).count();
+}
+
+double RenderSession::nextSnapshotSpp() const {
+    const auto& spps = m_settings.snapshotSpp;
+    return m_nextSnapshotSpp < spps.size() ? spps[m_nextSnapshotSpp]
+                                           : std::numeric_limits<double>::infinity();
 }
 
 double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevice() ? 0.05 : 0.02; }

@@ -45,7 +45,8 @@ public:
 
     vk::Context& context() { return m_context; }
     const vk::PipelineLayout& layout() const { return m_context.layout(); }
-    const vk::Kernel& kernel(const std::string& name) { return m_context.kernel(name); }
+    // The kernel `name`; the session warms it up when the clock starts (startClock).
+    const vk::Kernel& kernel(const std::string& name);
     const GpuScene& scene() const { return *m_scene; }
     const RenderSettings& settings() const { return m_settings; }
     vk::GpuTimer& timer() { return *m_timer; }
@@ -60,7 +61,10 @@ public:
     int height() const { return m_height; }
 
     // The render clock starts when the method starts rendering (after scene upload, BVH and
-    // kernel creation); time spent taking snapshots is not on it.
+    // kernel creation); time spent taking snapshots is not on it. First it dispatches every
+    // kernel taken through kernel() once with no work: lavapipe compiles a pipeline's machine
+    // code at its first dispatch, not at its creation (about 3 s for a method's kernels on a
+    // cold shader cache), and that is not the method's rendering time.
     void startClock();
     double elapsedSeconds() const;
     // Wall time spent taking snapshots (taken off the render clock).
@@ -80,6 +84,9 @@ public:
     // or settings.snapshotSpp passed), the image is resolved and stored. One call per batch:
     //   session.snapshotIfDue(samples, [&] { return resolveAverage(film.download(), w, h); });
     void snapshotIfDue(uint64_t cameraSamples, const std::function<Image()>& resolve);
+    // The next scheduled snapshot's samples per pixel (infinity when none is left), for
+    // integrators that can end a batch there.
+    double nextSnapshotSpp() const;
     std::vector<Snapshot> takeSnapshots() { return std::move(m_snapshots); }
 
 private:
@@ -92,6 +99,7 @@ private:
     std::unique_ptr<Film> m_film;
     std::unique_ptr<Progress> m_progress;
     vk::Buffer m_placeholder;
+    std::vector<const vk::Kernel*> m_kernels;  // taken through kernel(), warmed up by startClock
     Counters m_counters;
     std::chrono::steady_clock::time_point m_start;
     std::vector<Snapshot> m_snapshots;
