@@ -86,9 +86,9 @@ TEST_F(PmcErTest, FurnaceGivesItsAnalyticValue) {
 // (Sidak-corrected z-test, at least 99.75% of pixels pass), as for ERPT (tests/stat/test_erpt.cpp
 // explains the number of renders: the estimates are heavy-tailed). Each render has 16 pool
 // passes, as ERPT's test has 16 seed passes: with the default lifetime Q = 100 a member carries
-// its energy over 100 mutations, and with 8 passes per render 1-3 of 400 pixels failed, every
-// one too dark (the sign of a rare bright member that most renders miss), for 5 of 6 seed
-// sets and both acceptances; with 16 passes all 10 runs (5 seed sets) passed. The test keeps its
+// its energy over 100 mutations, and with 8 passes per render 4 of 6 runs (3 seed sets, both
+// acceptances) failed, on 2-3 of 400 pixels, every one too dark (the sign of a rare bright
+// member that most renders miss); with 16 passes all 10 runs (5 seed sets) passed. The test keeps its
 // power: the paper's births (--birth path) with 16 mutations per iteration fail it on 18 of
 // these 400 pixels with 16 passes (68 with 8 passes under an older kernel; with the 4 mutations
 // below their bias is too small to see), too bright where the image is dark and too dark where
