@@ -1,5 +1,6 @@
 #include "render/energy_estimate.h"
 
+#include "render/pt_integrator.h"
 #include "scene/scene.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
@@ -11,10 +12,7 @@ double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
     Film film(session.context(), session.width(), session.height());
     const vk::Kernel& kernel = session.kernel("pt");
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "energy pre-pass");
-    work.bind(gpu::PT_BINDING_FILM, film.pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
-    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+    bindTileWork(work, film, session);
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_TILE;
     push.flags = gpu::PT_FLAG_DEPOSIT;

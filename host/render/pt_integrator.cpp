@@ -22,6 +22,13 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
     if (mode == Mode::PmcHi) m_hi = parsePmcHiOptions(settings);
 }
 
+void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session) {
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
+    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+}
+
 RenderOutput PathTracer::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full     ? "pt"
@@ -29,10 +36,7 @@ RenderOutput PathTracer::render(RenderSession& session) {
                                                                        : "pmc_hi");
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
-    work.bind(gpu::PT_BINDING_FILM, film.pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
-    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+    bindTileWork(work, film, session);
 
     // PMC-HI: its parameters for this scene, and the per-pixel sums of the adapted alpha.
     gpu::PmcHiPush hiPush{};

@@ -12,6 +12,10 @@
 
 namespace pmcr {
 
+// Points the work set of the per-camera-sample kernels (pt, direct, pmc_hi) in tile mode at
+// `film`; their request and result lists, unused there, at the session's placeholder.
+void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session);
+
 class PathTracer : public Integrator {
 public:
     enum class Mode { Full, Direct, PmcHi };

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "gpu_test.h"
+#include "render/pt_integrator.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "vk/command_batch.h"
@@ -26,10 +27,7 @@ TEST_P(PtDispatch, SeveralPassesInOneDispatchGiveTheSameFilm) {
     vk::Kernel kernel(session.layout(), GetParam());
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "dispatch test work");
-    work.bind(gpu::PT_BINDING_FILM, film.pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    work.bind(gpu::PT_BINDING_REQUESTS, session.placeholder());
-    work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
+    bindTileWork(work, film, session);
 
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_TILE;
