@@ -3,6 +3,7 @@
 // the light reflected there (shaders/common/pmc_hi.glsl), per camera sample.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
+#extension GL_EXT_control_flow_attributes : require
 #include "shared/host_device.h"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
@@ -29,37 +30,41 @@ layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA_OUT, scalar) writeonly buf
     float alphaOut[];
 };
 
+// The feedback and alpha-map loops run over the m slots in use only, with trip counts of 0 when
+// their flag is off: on lavapipe every branch runs under a mask, so only a loop's trip count
+// keeps it from costing every camera sample its loads and stores (one per lane each).
 vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint recordIndex) {
-    const bool feedback = (hi.flags & PMC_HI_FLAG_FEEDBACK) != 0u;
+    const uint m = PMC_HI_LIGHT + hi.lightComponents;  // slots in use
+    const uint feedbackSlots = (hi.flags & PMC_HI_FLAG_FEEDBACK) != 0u ? m : 0u;
+    const uint recordSlots = (hi.flags & PMC_HI_FLAG_RECORD_ALPHA) != 0u ? m : 0u;
     vec3 dir = cameraDirection(raster);
     Hit hit;
     rays += 1u;
-    if (!traceClosest(sceneInfo.cameraPosition, dir, FLOAT_MAX, hit)) {
-        if (feedback)
-            for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) alphaOut[recordIndex * PMC_HI_MAX_COMPONENTS + k] = 0.0;
-        return vec3(0.0);
-    }
-    SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    bool found = traceClosest(sceneInfo.cameraPosition, dir, FLOAT_MAX, hit);
+    SurfacePoint s = surfaceAt(found ? hit.triangle : 0u, vec2(hit.b1, hit.b2));
     ShadingPoint sh = makeShadingPoint(s, -dir);
     uint pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
     float start[PMC_HI_MAX_COMPONENTS];
     float startSum = 0.0;
-    for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) {
-        start[k] = feedback ? alphaStart[pixel * PMC_HI_MAX_COMPONENTS + k] : 0.0;
+    for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) start[k] = 0.0;
+    [[dont_unroll]] for (uint k = 0u; k < feedbackSlots; ++k) {
+        start[k] = alphaStart[pixel * PMC_HI_MAX_COMPONENTS + k];
         startSum += start[k];
     }
     float alpha[PMC_HI_MAX_COMPONENTS];
-    bool adapted;
-    vec3 L = emittedRadiance(s, -dir) +
-             pmcHiEstimate(sh, hi, start, startSum > 0.0, smp, rays, alpha, adapted);
-    if (feedback) {
-        for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k)
-            alphaOut[recordIndex * PMC_HI_MAX_COMPONENTS + k] = adapted ? alpha[k] : 0.0;
+    bool adapted = false;
+    vec3 L = vec3(0.0);
+    if (found) {
+        L = emittedRadiance(s, -dir) +
+            pmcHiEstimate(sh, hi, start, startSum > 0.0, smp, rays, alpha, adapted);
     }
-    if ((hi.flags & PMC_HI_FLAG_RECORD_ALPHA) != 0u && adapted) {
+    // A miss, or a point with nothing to adapt, reports all 0.
+    [[dont_unroll]] for (uint k = 0u; k < feedbackSlots; ++k)
+        alphaOut[recordIndex * PMC_HI_MAX_COMPONENTS + k] = adapted ? alpha[k] : 0.0;
+    if (adapted) {
         uint base = pixel * PMC_HI_ALPHA_STRIDE;
-        for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) alphaSums[base + k] += alpha[k];
-        alphaSums[base + PMC_HI_MAX_COMPONENTS] += 1.0;
+        [[dont_unroll]] for (uint k = 0u; k < recordSlots; ++k) alphaSums[base + k] += alpha[k];
+        if (recordSlots > 0u) alphaSums[base + PMC_HI_MAX_COMPONENTS] += 1.0;
     }
     return L;
 }

@@ -36,6 +36,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_emitters = buildEmitters(scene);
     m_info.emitterCount = uint32_t(m_emitters.emitters.size());
     m_lightGroups = buildLightGroups(scene);
+    m_info.lightCount = uint32_t(m_lightGroups.lights.size());
     m_info.nodeCount = uint32_t(m_bvh.nodes().size());
     m_info.totalEmitterPower = m_emitters.totalPower;
 
@@ -56,7 +57,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
                                          VK_FORMAT_R32G32B32A32_UINT, "BVH texel buffer");
         m_materials = vk::Buffer::storage(context, scene.materials, "material buffer");
         m_emitterBuffer = vk::Buffer::storage(context, m_emitters.emitters, "emitter buffer");
-        m_lightGroupBuffer = vk::Buffer::storage(context, m_lightGroups.lights, "light group buffer");
+        m_lightGroupBuffer = vk::Buffer::storage(context, m_lightGroups.deviceGroups(), "light group buffer");
         m_lightEmitterBuffer =
             vk::Buffer::storage(context, m_lightGroups.emitters, "light group emitter buffer");
         m_triangleLightBuffer =

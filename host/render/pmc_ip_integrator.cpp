@@ -105,6 +105,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         alphaStart.fill(0);
         alphaOut = vk::Buffer(context, VkDeviceSize(capacity) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi final alpha", vk::MemoryUsage::Readback);
+        alphaOut.fill(0);  // the kernel writes the slots in use only
         work.bind(gpu::PMC_HI_BINDING_ALPHA, session.placeholder());
         work.bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart);
         work.bind(gpu::PMC_HI_BINDING_ALPHA_OUT, alphaOut);

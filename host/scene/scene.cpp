@@ -159,7 +159,20 @@ LightGroupTable buildLightGroups(const Scene& scene) {
         group.power = float(buildAliasTable(groupPower, out.emitters.data() + group.firstEmitter));
         out.lights.push_back(group);
     }
+    out.allEmitters.firstEmitter = uint32_t(out.emitters.size());
+    out.allEmitters.emitterCount = uint32_t(n);
+    for (size_t i = 0; i < n; ++i)
+        out.emitters.push_back({emissive[i], 0.0f, 1.0f, 0u});
+    if (n > 0)
+        out.allEmitters.power =
+            float(buildAliasTable(power, out.emitters.data() + out.allEmitters.firstEmitter));
     return out;
+}
+
+std::vector<gpu::LightGroup> LightGroupTable::deviceGroups() const {
+    std::vector<gpu::LightGroup> groups = lights;
+    groups.push_back(allEmitters);
+    return groups;
 }
 
 void finalizeScene(Scene& scene) {

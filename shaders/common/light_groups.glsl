@@ -18,7 +18,7 @@ layout(set = SCENE_SET, binding = BINDING_TRIANGLE_LIGHTS, scalar) readonly buff
 
 // Density, per unit area, of light `light`'s sampler producing a point on its triangle `tri`.
 float lightGroupAreaPdf(uint light, uint tri) {
-    return emitterPower(tri) / (lightGroups[light].power * triangleArea(tri));
+    return emitterPowerPerArea(tri) / lightGroups[light].power;  // the area cancels
 }
 
 // A point on light `light`: a triangle by the light's alias table (uSelect), then uniform on it.

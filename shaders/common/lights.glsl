@@ -8,18 +8,23 @@
 #include "common/sampling.glsl"
 #include "common/scene.glsl"
 
-// Power of an emitter triangle: area * luminance(Le) * pi * (2 if double-sided).
-float emitterPower(uint tri) {
+// Power per unit area of an emitter triangle: luminance(Le) * pi * (2 if double-sided).
+float emitterPowerPerArea(uint tri) {
     Material m = materials[triangles[tri].material];
     float sides = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 2.0 : 1.0;
-    return triangleArea(tri) * luminance(m.emission) * PI * sides;
+    return luminance(m.emission) * PI * sides;
 }
+
+// Power of an emitter triangle: area * luminance(Le) * pi * (2 if double-sided).
+float emitterPower(uint tri) { return triangleArea(tri) * emitterPowerPerArea(tri); }
 
 // Probability of selecting triangle `tri` when sampling lights.
 float emitterSelectPmf(uint tri) { return emitterPower(tri) / sceneInfo.totalEmitterPower; }
 
-// Density, per unit area of the emitter, of light sampling producing a point on triangle `tri`.
-float emitterAreaPdf(uint tri) { return emitterSelectPmf(tri) / triangleArea(tri); }
+// Density, per unit area of the emitter, of light sampling producing a point on triangle `tri`:
+// the selection probability over the area, in which the area cancels, so no vertex is read (a
+// load per lane on lavapipe).
+float emitterAreaPdf(uint tri) { return emitterPowerPerArea(tri) / sceneInfo.totalEmitterPower; }
 
 struct LightSample {
     SurfacePoint point;

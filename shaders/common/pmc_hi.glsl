@@ -82,20 +82,20 @@ float pmcHiConePdf(vec3 axis, float oneMinusCos, vec3 w) {
     return oneMinusCos > 0.0 && 1.0 - dot(w, axis) <= oneMinusCos ? 1.0 / (TWO_PI * oneMinusCos) : 0.0;
 }
 
+// The light group that light component `light` samples: the light itself, or with one shared
+// light component the group of all emitters, which follows the lights (host/scene/scene.h).
+uint pmcHiLightGroup(PmcHiParams p, uint light) {
+    return p.sharedLight != 0u ? sceneInfo.lightCount : light;
+}
+
 // Solid-angle density, seen from `from`, with which a light component samples the direction to
 // emitter point `l`, and that component's slot (PMC_HI_MAX_COMPONENTS when l does not emit).
 float pmcHiLightDensity(PmcHiParams p, vec3 from, SurfacePoint l, out uint slot) {
     slot = PMC_HI_MAX_COMPONENTS;
     uint light = triangleLights[l.triangle];
     if (light == LIGHT_NONE) return 0.0;
-    float pdfArea;
-    if (p.sharedLight != 0u) {
-        slot = PMC_HI_LIGHT;
-        pdfArea = emitterAreaPdf(l.triangle);
-    } else {
-        slot = PMC_HI_LIGHT + light;
-        pdfArea = lightGroupAreaPdf(light, l.triangle);
-    }
+    slot = PMC_HI_LIGHT + (p.sharedLight != 0u ? 0u : light);
+    float pdfArea = lightGroupAreaPdf(pmcHiLightGroup(p, light), l.triangle);
     return areaToSolidAngle(pdfArea, from, l.position, l.normal);
 }
 
@@ -114,7 +114,7 @@ struct PmcHiDraw {
     bool delta;            // drawn by a delta lobe of the BSDF
     bool fromLight;        // drawn by a light component: `lightPoint` is the sampled point
     SurfacePoint lightPoint;
-    float lightPdfArea;    // its area density under component k (LightSample.pdfArea)
+    vec2 lightBarycentrics;  // its barycentrics on triangle lightPoint.triangle
 };
 
 // Draws a direction from component k of `kern`; false when no direction results (the sample
@@ -132,7 +132,7 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
     d.lightPoint.uv = vec2(0.0);
     d.lightPoint.triangle = 0u;
     d.lightPoint.material = 0u;
-    d.lightPdfArea = 0.0;
+    d.lightBarycentrics = vec2(0.0);
     // One BSDF evaluation (value and density together) for every component, at one call site:
     // the invocations of a SIMD group that draw from different components then share it.
     vec3 wiLocal;
@@ -150,15 +150,14 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
         if (kern.coneOneMinusCos <= 0.0) return false;
         d.wi = pmcHiSampleCone(kern.coneAxis, kern.coneOneMinusCos, u2);
     } else {
-        LightSample ls = p.sharedLight != 0u ? sampleLight(u1, u2)
-                                             : sampleLightGroup(k - PMC_HI_LIGHT, u1, u2);
+        LightSample ls = sampleLightGroup(pmcHiLightGroup(p, k - PMC_HI_LIGHT), u1, u2);
         vec3 toLight = ls.point.position - sh.surface.position;
         float distance = length(toLight);
         if (!(distance > 0.0)) return false;
         d.wi = toLight / distance;
         d.fromLight = true;
         d.lightPoint = ls.point;
-        d.lightPdfArea = ls.pdfArea;
+        d.lightBarycentrics = ls.barycentrics;
     }
     if (k != PMC_HI_BSDF) wiLocal = toLocal(sh.frame, d.wi);
     vec3 f = shadingEvalLocal(sh, d.wi, wiLocal, d.pdfBsdf);
@@ -195,10 +194,12 @@ float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pd
 // w = f / K (eq. 8, Rao-Blackwellised) or f / h_k (the per-component variant of sec. 7),
 // f = Le f_r |cos|. Returns false for a sample that produced no direction (w = 0).
 //
-// Every sample goes through one traversal call, whatever its component: a light-sampled
-// direction as a shadow ray to the sampled point (any hit), the others as a closest hit. With
-// one call site the invocations of a SIMD group that draw from different components still
-// traverse together (two call sites would run both traversal loops, each half masked).
+// Every sample, whatever its component, goes through one traversal call (a light-sampled
+// direction as a shadow ray to the sampled point, the others as a closest hit) and one scoring
+// of one emitter point (the sampled point when it is visible, else the first hit). On lavapipe,
+// which runs 8 invocations as the lanes of one vector, every branch runs both its sides under
+// masks, so each call site costs every sample: scoring the light-sampled points and the hit
+// points separately made a PMC-HI sample cost about two MIS samples.
 bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float u1, vec2 u2,
                  inout uint rays, out vec3 w, out vec3 wi) {
     w = vec3(0.0);
@@ -206,20 +207,16 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
     PmcHiDraw d;
     bool drawn = pmcHiDrawDirection(sh, p, k, kern, u1, u2, d);
     wi = d.wi;
-    bool trace = drawn && maxComponent(d.fr) > 0.0;
+    if (!drawn || !(maxComponent(d.fr) > 0.0)) return drawn;
 
-    // The ray: to the sampled light point (visible when nothing is in between), or what the
-    // direction sees first.
-    ShadowRay ray = ShadowRay(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX);
-    if (d.fromLight) ray = shadowRay(sh, d.lightPoint);
+    ShadowRay ray = d.fromLight ? shadowRay(sh, d.lightPoint)
+                                : ShadowRay(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX);
     Hit hit = Hit(ray.tMax, BVH_NO_HIT, 0.0, 0.0);
-    bool found = false;
-    if (trace) {
-        rays += 1u;
-        found = bvhTraverse(ray.origin, ray.dir, d.fromLight, hit);
-    }
-    if (!trace || (d.fromLight ? found : !found)) return drawn;
-    SurfacePoint l = d.fromLight ? d.lightPoint : surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    rays += 1u;
+    bool found = bvhTraverse(ray.origin, ray.dir, d.fromLight, hit);
+    if (d.fromLight == found) return true;  // the sampled point occluded, or nothing seen
+    SurfacePoint l = surfaceAt(d.fromLight ? d.lightPoint.triangle : hit.triangle,
+                               d.fromLight ? d.lightBarycentrics : vec2(hit.b1, hit.b2));
     vec3 Le = emittedRadiance(l, -d.wi);
     if (maxComponent(Le) <= 0.0) return true;
     vec3 f = d.fr * Le;
@@ -229,11 +226,9 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
         w = f / (rb ? kern.alpha[PMC_HI_BSDF] * d.pdfBsdf : d.pdfBsdf);
         return true;
     }
-    // The light component's density at the point: for a point that component k sampled, the
-    // area density the sampler returned (slot k), without looking the light up again.
-    uint lightSlot = k;
-    float pdfLight = d.fromLight ? areaToSolidAngle(d.lightPdfArea, sh.surface.position, l.position, l.normal)
-                                 : pmcHiLightDensity(p, sh.surface.position, l, lightSlot);
+    // For a point light component k sampled, the slot found is k itself.
+    uint lightSlot;
+    float pdfLight = pmcHiLightDensity(p, sh.surface.position, l, lightSlot);
     float density = pmcHiMixtureDensity(kern, d.wi, d.pdfBsdf, pdfLight, lightSlot,
                                         rb ? PMC_HI_MAX_COMPONENTS : k);
     if (density > 0.0) w = f / density;

@@ -157,5 +157,9 @@ struct SceneInfo {
     uint emitterCount;
     uint nodeCount;
     float totalEmitterPower;
+    uint lightCount;       // PMC-HI's lights (LightGroup[]); the group of all emitters follows them
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
-PMCR_CHECK_SIZE(SceneInfo, 96);
+PMCR_CHECK_SIZE(SceneInfo, 112);

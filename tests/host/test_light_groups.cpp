@@ -2,6 +2,7 @@
 // positions, each group an alias table over its own triangles' power.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -16,33 +17,57 @@ namespace {
 using test::addTriangle;
 using test::testMaterial;
 
-// Checks the tables' invariants: every emitter in exactly one light, pmfs summing to 1 within
-// each light, the alias table reproducing them, and the per-triangle index agreeing.
+// Checks group g's alias table: pmfs summing to 1, the alias table reproducing them, and the
+// group's power the sum of its triangles'. Returns its triangles.
+std::vector<uint32_t> expectAliasTable(const Scene& scene, const LightGroupTable& t, const gpu::LightGroup& g) {
+    std::vector<uint32_t> triangles;
+    if (g.firstEmitter + g.emitterCount > t.emitters.size()) {
+        ADD_FAILURE() << "group past the end of the emitter table";
+        return triangles;
+    }
+    double pmfSum = 0.0, power = 0.0;
+    std::vector<double> aliasMass(g.emitterCount, 0.0);
+    for (uint32_t i = 0; i < g.emitterCount; ++i) {
+        const gpu::Emitter& e = t.emitters[g.firstEmitter + i];
+        triangles.push_back(e.triangle);
+        pmfSum += e.pmf;
+        power += emitterPower(scene, e.triangle);
+        EXPECT_LT(e.alias, g.emitterCount);
+        aliasMass[i] += e.aliasThreshold / g.emitterCount;
+        aliasMass[std::min(e.alias, g.emitterCount - 1)] += (1.0 - e.aliasThreshold) / g.emitterCount;
+    }
+    EXPECT_NEAR(pmfSum, 1.0, 1e-5);
+    EXPECT_NEAR(g.power, power, 1e-5 * power);
+    for (uint32_t i = 0; i < g.emitterCount; ++i)
+        EXPECT_NEAR(aliasMass[i], t.emitters[g.firstEmitter + i].pmf, 1e-5);
+    return triangles;
+}
+
+// Checks the tables' invariants: every emitter in exactly one light, each light's alias table,
+// the per-triangle index agreeing, and the group of all emitters (the shared light component)
+// holding every emitter once, with the scene's total power, after the lights' tables.
 void expectConsistent(const Scene& scene, const LightGroupTable& t) {
     ASSERT_EQ(t.triangleLight.size(), scene.triangles.size());
-    size_t emitters = 0;
+    std::vector<uint32_t> emitters;
     for (uint32_t tri = 0; tri < scene.triangles.size(); ++tri)
-        if (emitterPower(scene, tri) > 0.0f) ++emitters;
-    EXPECT_EQ(t.emitters.size(), emitters);
+        if (emitterPower(scene, tri) > 0.0f) emitters.push_back(tri);
+    size_t inLights = 0;
     for (uint32_t l = 0; l < t.lights.size(); ++l) {
-        const gpu::LightGroup& g = t.lights[l];
-        ASSERT_LE(g.firstEmitter + g.emitterCount, t.emitters.size());
-        double pmfSum = 0.0, power = 0.0;
-        std::vector<double> aliasMass(g.emitterCount, 0.0);
-        for (uint32_t i = 0; i < g.emitterCount; ++i) {
-            const gpu::Emitter& e = t.emitters[g.firstEmitter + i];
-            EXPECT_EQ(t.triangleLight[e.triangle], l);
-            pmfSum += e.pmf;
-            power += emitterPower(scene, e.triangle);
-            ASSERT_LT(e.alias, g.emitterCount);
-            aliasMass[i] += e.aliasThreshold / g.emitterCount;
-            aliasMass[e.alias] += (1.0 - e.aliasThreshold) / g.emitterCount;
+        for (uint32_t tri : expectAliasTable(scene, t, t.lights[l])) {
+            EXPECT_EQ(t.triangleLight[tri], l);
+            ++inLights;
         }
-        EXPECT_NEAR(pmfSum, 1.0, 1e-5);
-        EXPECT_NEAR(g.power, power, 1e-5 * power);
-        for (uint32_t i = 0; i < g.emitterCount; ++i)
-            EXPECT_NEAR(aliasMass[i], t.emitters[g.firstEmitter + i].pmf, 1e-5);
     }
+    EXPECT_EQ(inLights, emitters.size());
+    std::vector<uint32_t> all = expectAliasTable(scene, t, t.allEmitters);
+    std::sort(all.begin(), all.end());
+    EXPECT_EQ(all, emitters);
+    EXPECT_EQ(t.allEmitters.firstEmitter, inLights);
+    EXPECT_EQ(t.emitters.size(), 2 * emitters.size());
+    EXPECT_EQ(t.allEmitters.power, buildEmitters(scene).totalPower);
+    const std::vector<gpu::LightGroup> device = t.deviceGroups();
+    ASSERT_EQ(device.size(), t.lights.size() + 1);
+    EXPECT_EQ(device.back().firstEmitter, t.allEmitters.firstEmitter);
 }
 
 TEST(LightGroups, TrianglesSharingAPositionFormOneLight) {
