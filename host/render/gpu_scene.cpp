@@ -51,11 +51,14 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         m_infoBuffer = vk::Buffer(context, sizeof(gpu::SceneInfo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                   "scene info");
         m_infoBuffer.upload(&m_info, sizeof(m_info));
-        m_vertices = vk::Buffer::storage(context, scene.vertices, "vertex buffer");
-        m_triangles = vk::Buffer::storage(context, scene.triangles, "triangle buffer");
+        m_vertices = vk::Buffer::texels(context, scene.vertices, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                        "vertex buffer");
+        m_triangles = vk::Buffer::texels(context, scene.triangles, VK_FORMAT_R32G32B32A32_UINT,
+                                         "triangle buffer");
         m_bvhTexels = vk::Buffer::texels(context, m_bvh.deviceTexels(),
                                          VK_FORMAT_R32G32B32A32_UINT, "BVH texel buffer");
-        m_materials = vk::Buffer::storage(context, scene.materials, "material buffer");
+        m_materials = vk::Buffer::texels(context, scene.materials, VK_FORMAT_R32G32B32A32_UINT,
+                                         "material buffer");
         m_emitterBuffer = vk::Buffer::storage(context, m_emitters.emitters, "emitter buffer");
         m_lightGroupBuffer = vk::Buffer::storage(context, m_lightGroups.deviceGroups(), "light group buffer");
         m_lightEmitterBuffer =

@@ -10,7 +10,7 @@
 
 // Power per unit area of an emitter triangle: luminance(Le) * pi * (2 if double-sided).
 float emitterPowerPerArea(uint tri) {
-    Material m = materials[triangles[tri].material];
+    Material m = materialAt(triangleAt(tri).material);
     float sides = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 2.0 : 1.0;
     return luminance(m.emission) * PI * sides;
 }

@@ -8,15 +8,33 @@
 layout(set = SCENE_SET, binding = BINDING_SCENE_INFO, scalar) uniform SceneInfoBlock {
     SceneInfo sceneInfo;
 };
-layout(set = SCENE_SET, binding = BINDING_VERTICES, scalar) readonly buffer VertexBuffer {
-    Vertex vertices[];
-};
-layout(set = SCENE_SET, binding = BINDING_TRIANGLES, scalar) readonly buffer TriangleBuffer {
-    Triangle triangles[];
-};
-layout(set = SCENE_SET, binding = BINDING_MATERIALS, scalar) readonly buffer MaterialBuffer {
-    Material materials[];
-};
+// Vertices, triangles and materials are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
+// texel fetch is one gather of four words for all lanes, where a storage-buffer load with
+// per-lane addresses is a loop over the lanes for every word. A Vertex is two float texels
+// (position, u; normal, v), a Triangle one uint texel, a Material three (shared/scene_types.h).
+layout(set = SCENE_SET, binding = BINDING_VERTICES) uniform samplerBuffer vertexTexels;
+layout(set = SCENE_SET, binding = BINDING_TRIANGLES) uniform usamplerBuffer triangleTexels;
+layout(set = SCENE_SET, binding = BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
+
+Vertex vertexAt(uint i) {
+    vec4 a = texelFetch(vertexTexels, int(2u * i));
+    vec4 b = texelFetch(vertexTexels, int(2u * i + 1u));
+    return Vertex(a.xyz, a.w, b.xyz, b.w);
+}
+
+vec3 vertexPosition(uint i) { return texelFetch(vertexTexels, int(2u * i)).xyz; }
+
+Triangle triangleAt(uint i) {
+    uvec4 t = texelFetch(triangleTexels, int(i));
+    return Triangle(t.x, t.y, t.z, t.w);
+}
+
+Material materialAt(uint i) {
+    uvec4 a = texelFetch(materialTexels, int(3u * i));
+    uvec4 b = texelFetch(materialTexels, int(3u * i + 1u));
+    vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(3u * i + 2u)));
+    return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
+}
 layout(set = SCENE_SET, binding = BINDING_EMITTERS, scalar) readonly buffer EmitterBuffer {
     Emitter emitters[];
 };
@@ -41,18 +59,18 @@ struct SurfacePoint {
 
 // Twice the triangle's area times its unit normal.
 vec3 triangleCross(uint tri) {
-    Triangle t = triangles[tri];
-    vec3 p0 = vertices[t.i0].position;
-    return cross(vertices[t.i1].position - p0, vertices[t.i2].position - p0);
+    Triangle t = triangleAt(tri);
+    vec3 p0 = vertexPosition(t.i0);
+    return cross(vertexPosition(t.i1) - p0, vertexPosition(t.i2) - p0);
 }
 float triangleArea(uint tri) { return 0.5 * length(triangleCross(tri)); }
 
 // Surface point at barycentrics (b1, b2) of triangle `tri` (b0 = 1 - b1 - b2).
 SurfacePoint surfaceAt(uint tri, vec2 b) {
-    Triangle t = triangles[tri];
-    Vertex v0 = vertices[t.i0];
-    Vertex v1 = vertices[t.i1];
-    Vertex v2 = vertices[t.i2];
+    Triangle t = triangleAt(tri);
+    Vertex v0 = vertexAt(t.i0);
+    Vertex v1 = vertexAt(t.i1);
+    Vertex v2 = vertexAt(t.i2);
     float b0 = 1.0 - b.x - b.y;
     SurfacePoint s;
     s.position = b0 * v0.position + b.x * v1.position + b.y * v2.position;
@@ -97,7 +115,7 @@ vec3 materialBaseColor(Material m, vec2 uv) {
 // Radiance emitted by a surface towards direction w (unit, away from the surface): area lights
 // emit from their front face only unless the material is double-sided (pbrt, Mitsuba).
 vec3 emittedRadiance(SurfacePoint s, vec3 w) {
-    Material m = materials[s.material];
+    Material m = materialAt(s.material);
     if (maxComponent(m.emission) <= 0.0) return vec3(0.0);
     if (dot(s.normal, w) > 0.0 || (m.flags & MATERIAL_DOUBLE_SIDED) != 0u) return m.emission;
     return vec3(0.0);

@@ -23,7 +23,7 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     sh.ng = sh.front ? s.normal : -s.normal;
     sh.frame = frameFromNormal(sh.front ? s.shadingNormal : -s.shadingNormal);
     sh.woLocal = toLocal(sh.frame, wo);
-    Material m = materials[s.material];
+    Material m = materialAt(s.material);
     sh.bsdf = makeBsdf(materialBaseColor(m, s.uv), m.metallic, m.roughness, m.transmission, m.ior,
                        sh.front);
     return sh;

@@ -6,11 +6,11 @@
 
 PMCR_CONST uint SCENE_SET = 0;
 PMCR_CONST uint BINDING_SCENE_INFO = 0;      // SceneInfo (uniform)
-PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[]
-PMCR_CONST uint BINDING_TRIANGLES = 2;       // Triangle[]            (original order)
+PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[] as a float texel buffer, 2 texels each
+PMCR_CONST uint BINDING_TRIANGLES = 2;       // Triangle[] as a uint texel buffer (original order)
                                              // 3: unused
 PMCR_CONST uint BINDING_BVH = 4;             // uvec4 texel buffer: nodes and triangles (Bvh::deviceTexels)
-PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[]
+PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[] as a uint texel buffer, 3 texels each
 PMCR_CONST uint BINDING_EMITTERS = 6;        // Emitter[]             (alias table over emitters)
 PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]
 PMCR_CONST uint BINDING_TEXELS = 8;          // uint[] (RGBA8, sRGB-encoded colour)
