@@ -30,9 +30,10 @@ layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA_OUT, scalar) writeonly buf
     float alphaOut[];
 };
 
-// The feedback and alpha-map loops run over the m slots in use only, with trip counts of 0 when
-// their flag is off: on lavapipe every branch runs under a mask, so only a loop's trip count
-// keeps it from costing every camera sample its loads and stores (one per lane each).
+// The feedback and alpha-map loops run over the m slots in use, not all PMC_HI_MAX_COMPONENTS,
+// and stay loops ([[dont_unroll]]): lavapipe runs both sides of every branch under lane masks, so
+// unrolled they would cost every camera sample a load or store per slot (each a loop over the
+// lanes) even with their flag off.
 vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint recordIndex) {
     const uint m = PMC_HI_LIGHT + hi.lightComponents;  // slots in use
     const uint feedbackSlots = (hi.flags & PMC_HI_FLAG_FEEDBACK) != 0u ? m : 0u;

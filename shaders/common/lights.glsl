@@ -22,8 +22,7 @@ float emitterPower(uint tri) { return triangleArea(tri) * emitterPowerPerArea(tr
 float emitterSelectPmf(uint tri) { return emitterPower(tri) / sceneInfo.totalEmitterPower; }
 
 // Density, per unit area of the emitter, of light sampling producing a point on triangle `tri`:
-// the selection probability over the area, in which the area cancels, so no vertex is read (a
-// load per lane on lavapipe).
+// the selection probability over the area, in which the area cancels (no vertex is read).
 float emitterAreaPdf(uint tri) { return emitterPowerPerArea(tri) / sceneInfo.totalEmitterPower; }
 
 struct LightSample {
