@@ -9,6 +9,8 @@ namespace pmcr {
 std::vector<MethodOption> pmcHiMethodOptions() {
     return {
         {"population-per-component", "2", "population N = this x components (BSDF, lights, cone)"},
+        {"initial-population-per-component", "same",
+         "the first iteration's population per component (same: --population-per-component)"},
         {"iterations", "2", "PMC iterations per direct-lighting estimate"},
         {"cone-initial", "0.2", "cone weight after the first iteration (the others scaled by 1 - it)"},
         {"max-light-components", "4", "one component per light up to this many lights, else one for all"},
@@ -26,6 +28,12 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
     if (population < 1 || population > int(gpu::PMC_HI_MAX_POPULATION_PER_COMPONENT))
         throw Error("--population-per-component: expected 1.." +
                     std::to_string(gpu::PMC_HI_MAX_POPULATION_PER_COMPONENT));
+    const std::string initial = settings.optionString("initial-population-per-component", "same");
+    const int initialPopulation =
+        initial == "same" ? population : settings.optionInt("initial-population-per-component", population);
+    if (initialPopulation < 1 || initialPopulation > int(gpu::PMC_HI_MAX_POPULATION_PER_COMPONENT))
+        throw Error("--initial-population-per-component: expected 1.." +
+                    std::to_string(gpu::PMC_HI_MAX_POPULATION_PER_COMPONENT) + " or same");
     const int iterations = settings.optionInt(iterationsOption, 2);
     if (iterations < 1 || iterations > int(gpu::PMC_HI_MAX_ITERATIONS))
         throw Error("--" + iterationsOption + ": expected 1.." + std::to_string(gpu::PMC_HI_MAX_ITERATIONS));
@@ -37,6 +45,7 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
     if (maxLights < 1 || maxLights > int(gpu::PMC_HI_MAX_LIGHTS))
         throw Error("--max-light-components: expected 1.." + std::to_string(gpu::PMC_HI_MAX_LIGHTS));
     o.params.populationPerComponent = uint32_t(population);
+    o.params.initialPopulationPerComponent = uint32_t(initialPopulation);
     o.params.iterations = uint32_t(iterations);
     o.params.coneInitial = float(cone);
     o.params.alphaFloor = float(floor);
@@ -61,7 +70,9 @@ void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const Gp
     out.methodStats["shared_light_component"] = params.sharedLight;
     out.methodStats["population"] = params.populationPerComponent * components;
     out.methodStats["pmc_hi_iterations"] = params.iterations;
-    out.methodStats["samples_per_estimate"] = params.populationPerComponent * components * params.iterations;
+    out.methodStats["samples_per_estimate"] =
+        (params.initialPopulationPerComponent + params.populationPerComponent * (params.iterations - 1)) *
+        components;
     out.methodStats["rao_blackwell"] = (params.flags & gpu::PMC_HI_FLAG_RAO_BLACKWELL) != 0u;
 
     auto map = [&](uint32_t slot) {

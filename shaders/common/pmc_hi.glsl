@@ -3,12 +3,14 @@
 // reflected at a shading point runs a tiny population Monte Carlo over incident directions.
 //
 // Kernel (eq. 7): K = a_BSDF h_BSDF + sum_l a_l h_l + a_cone h_cone, one light component per
-// light (shaders/common/light_groups.glsl) or one shared by all (lights.glsl). Each iteration
-// draws N = populationPerComponent * m directions (m = slots in use, the cone included) by
-// deterministic mixture sampling, traces one closest-hit ray per direction and weights it by
-// w = f / K (eq. 8, the full mixture: Rao-Blackwellised); the weights' shares per component
-// give the next a_k (eq. 9), their mean direction and spread the next cone. The estimate is the
-// average over iterations of (1/N) sum w (eq. 1).
+// light (shaders/common/light_groups.glsl) or one shared by all (the group of all emitters).
+// Each iteration draws N = populationPerComponent * m directions (m = slots in use, the cone
+// included; iteration 0 initialPopulationPerComponent * m) by deterministic mixture sampling,
+// traces one ray per direction and weights it by w = f / K (eq. 8, the full mixture:
+// Rao-Blackwellised); the weights' shares per component give the next a_k (eq. 9), their mean
+// direction and spread the next cone. The estimate is the average of all the iterations' w
+// (eq. 1): each iteration's (1/N) sum w is unbiased given its kernel, and the fixed weights
+// N / (all samples) sum to 1.
 //
 // Unbiasedness: given the kernel, E[(1/N) sum f/K] = sum_k (E[n_k]/N) int h_k f/K = int f,
 // since E[n_k] = N a_k and sum_k a_k h_k = K, wherever K > 0. The kernel of iteration t depends
@@ -272,7 +274,9 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
                    inout Sampler smp, inout uint rays, out float alphaOut[PMC_HI_MAX_COMPONENTS],
                    out bool adapted) {
     const uint m = PMC_HI_LIGHT + p.lightComponents;  // slots in use
-    const uint N = p.populationPerComponent * m;
+    // Samples in all: iteration 0 draws initialPopulationPerComponent * m, the others
+    // populationPerComponent * m each.
+    const uint samples = (p.initialPopulationPerComponent + (p.iterations - 1u) * p.populationPerComponent) * m;
     adapted = bsdfHasNonDelta(sh.bsdf);
 
     PmcHiKernel kern;
@@ -290,6 +294,7 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
 
     vec3 total = vec3(0.0);
     for (uint t = 0u; t < p.iterations; ++t) {
+        const uint N = (t == 0u ? p.initialPopulationPerComponent : p.populationPerComponent) * m;
         uint counts[PMC_HI_MAX_COMPONENTS];
         pmcHiAllocate(kern.alpha, m, N, samplerGet1D(smp), counts);
         vec3 sum = vec3(0.0);
@@ -323,8 +328,8 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
             wTotal += wl;
             wDirection += wl * wi;
         }
-        // Eq. 1: this iteration's estimate.
-        total += sum / float(N);
+        // Eq. 1: the average of every iteration's weighted samples.
+        total += sum;
         if (!adapted) continue;
 
         // Adapt (sec. 5.2). Without any weight there is nothing to learn: keep the kernel.
@@ -359,7 +364,7 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
         for (uint k = 0u; k < m; ++k) kern.alpha[k] /= alphaSum;
     }
     alphaOut = kern.alpha;
-    return total / float(p.iterations);
+    return total / float(samples);
 }
 
 #endif

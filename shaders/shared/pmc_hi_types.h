@@ -43,7 +43,7 @@ struct PmcHiParams {
     float coneInitial;           // alpha_cone after iteration 0 (the others scaled by 1 - it)
     float alphaFloor;            // defensive floor of the BSDF and light weights
     uint flags;                  // PMC_HI_FLAG_*
-    uint pad;
+    uint initialPopulationPerComponent;  // the same for iteration 0
 };
 PMCR_CHECK_SIZE(PmcHiParams, 32);
 

@@ -19,7 +19,8 @@ using test::testMaterial;
 
 // Checks group g's alias table: pmfs summing to 1, the alias table reproducing them, and the
 // group's power the sum of its triangles'. Returns its triangles.
-std::vector<uint32_t> expectAliasTable(const Scene& scene, const LightGroupTable& t, const gpu::LightGroup& g) {
+std::vector<uint32_t> expectAliasTable(const Scene& scene, const LightGroupTable& t,
+                                       const gpu::LightGroup& g) {
     std::vector<uint32_t> triangles;
     if (g.firstEmitter + g.emitterCount > t.emitters.size()) {
         ADD_FAILURE() << "group past the end of the emitter table";
@@ -34,7 +35,8 @@ std::vector<uint32_t> expectAliasTable(const Scene& scene, const LightGroupTable
         power += emitterPower(scene, e.triangle);
         EXPECT_LT(e.alias, g.emitterCount);
         aliasMass[i] += e.aliasThreshold / g.emitterCount;
-        aliasMass[std::min(e.alias, g.emitterCount - 1)] += (1.0 - e.aliasThreshold) / g.emitterCount;
+        aliasMass[std::min(e.alias, g.emitterCount - 1)] +=
+            (1.0 - e.aliasThreshold) / g.emitterCount;
     }
     EXPECT_NEAR(pmfSum, 1.0, 1e-5);
     EXPECT_NEAR(g.power, power, 1e-5 * power);

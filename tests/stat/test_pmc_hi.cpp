@@ -99,6 +99,18 @@ TEST_F(PmcHiTest, UnbiasedWithOneSharedLightComponent) {
     expectUnbiased("scenes/checkers-two-lights.glb", s, 32);
 }
 
+// A first iteration smaller than the others (--initial-population-per-component): the estimate
+// averages all the iterations' weighted samples, so each iteration counts in proportion to its
+// population, and stays unbiased.
+TEST_F(PmcHiTest, UnbiasedWithASmallerFirstIteration) {
+    RenderSettings s = pmcHiSettings(24, 4);
+    s.options["initial-population-per-component"] = "1";
+    s.options["population-per-component"] = "3";
+    const auto run = renderForTest(testScene("scenes/checkers-two-lights.glb"), s);
+    EXPECT_EQ(run.stats["method_stats"]["samples_per_estimate"].get<int>(), 16);  // (1 + 3) x 4
+    expectUnbiased("scenes/checkers-two-lights.glb", s, 32);
+}
+
 // The per-component variant (sec. 7: w = f / h_k of the sample's own component) estimates
 // sum_k alpha_k int_{supp h_k} f: a light component sees only its light, the cone only the
 // cone, so with two lights it is biased low, and the z-test sees it (which also shows the test
