@@ -59,10 +59,12 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
                                          VK_FORMAT_R32G32B32A32_UINT, "BVH texel buffer");
         m_materials = vk::Buffer::texels(context, scene.materials, VK_FORMAT_R32G32B32A32_UINT,
                                          "material buffer");
-        m_emitterBuffer = vk::Buffer::storage(context, m_emitters.emitters, "emitter buffer");
-        m_lightGroupBuffer = vk::Buffer::storage(context, m_lightGroups.deviceGroups(), "light group buffer");
-        m_lightEmitterBuffer =
-            vk::Buffer::storage(context, m_lightGroups.emitters, "light group emitter buffer");
+        m_emitterBuffer = vk::Buffer::texels(context, m_emitters.emitters, VK_FORMAT_R32G32B32A32_UINT,
+                                             "emitter buffer");
+        m_lightGroupBuffer = vk::Buffer::texels(context, m_lightGroups.deviceGroups(),
+                                                VK_FORMAT_R32G32B32A32_UINT, "light group buffer");
+        m_lightEmitterBuffer = vk::Buffer::texels(context, m_lightGroups.emitters,
+                                                  VK_FORMAT_R32G32B32A32_UINT, "light group emitter buffer");
         m_triangleLightBuffer =
             vk::Buffer::storage(context, m_lightGroups.triangleLight, "triangle light buffer");
         m_textureInfos = vk::Buffer::storage(context, textureInfos, "texture table");

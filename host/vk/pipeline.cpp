@@ -23,13 +23,15 @@ std::span<const uint32_t> spirv(const std::string& name) {
 namespace {
 
 // The descriptor type of each binding (shared/bindings.h): the scene set has its uniform
-// SceneInfo and texel buffers for the BVH, the vertices, the triangles and the materials;
-// everything else is a storage buffer.
+// SceneInfo and texel buffers for the BVH, the vertices, the triangles, the materials and the
+// light tables; everything else is a storage buffer.
 VkDescriptorType descriptorType(DescriptorSet::Kind kind, uint32_t binding) {
     if (kind == DescriptorSet::Kind::Scene) {
         if (binding == gpu::BINDING_SCENE_INFO) return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (binding == gpu::BINDING_BVH || binding == gpu::BINDING_VERTICES ||
-            binding == gpu::BINDING_TRIANGLES || binding == gpu::BINDING_MATERIALS)
+            binding == gpu::BINDING_TRIANGLES || binding == gpu::BINDING_MATERIALS ||
+            binding == gpu::BINDING_EMITTERS || binding == gpu::BINDING_LIGHT_GROUPS ||
+            binding == gpu::BINDING_LIGHT_EMITTERS)
             return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     }
     return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

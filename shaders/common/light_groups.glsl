@@ -6,29 +6,34 @@
 
 #include "common/lights.glsl"
 
-layout(set = SCENE_SET, binding = BINDING_LIGHT_GROUPS, scalar) readonly buffer LightGroupBuffer {
-    LightGroup lightGroups[];
-};
-layout(set = SCENE_SET, binding = BINDING_LIGHT_EMITTERS, scalar) readonly buffer LightEmitterBuffer {
-    Emitter lightEmitters[];
-};
+// The lights and their alias tables, one uint texel per LightGroup and per Emitter (texel
+// fetches, like the scene's other tables: scene.glsl).
+layout(set = SCENE_SET, binding = BINDING_LIGHT_GROUPS) uniform usamplerBuffer lightGroupTexels;
+layout(set = SCENE_SET, binding = BINDING_LIGHT_EMITTERS) uniform usamplerBuffer lightEmitterTexels;
+
+LightGroup lightGroupAt(uint i) {
+    uvec4 t = texelFetch(lightGroupTexels, int(i));
+    return LightGroup(t.x, t.y, uintBitsToFloat(t.z), t.w);
+}
+Emitter lightEmitterAt(uint i) { return emitterFrom(texelFetch(lightEmitterTexels, int(i))); }
 layout(set = SCENE_SET, binding = BINDING_TRIANGLE_LIGHTS, scalar) readonly buffer TriangleLightBuffer {
     uint triangleLights[];
 };
 
 // Density, per unit area, of light `light`'s sampler producing a point on its triangle `tri`.
 float lightGroupAreaPdf(uint light, uint tri) {
-    return emitterPowerPerArea(tri) / lightGroups[light].power;  // the area cancels
+    return emitterPowerPerArea(tri) / lightGroupAt(light).power;  // the area cancels
 }
 
 // A point on light `light`: a triangle by the light's alias table (uSelect), then uniform on it.
 LightSample sampleLightGroup(uint light, float uSelect, vec2 uPoint) {
-    LightGroup g = lightGroups[light];
+    LightGroup g = lightGroupAt(light);
     float scaled = uSelect * float(g.emitterCount);
     uint slot = min(uint(scaled), g.emitterCount - 1u);
-    Emitter e = lightEmitters[g.firstEmitter + slot];
-    uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle
-                                                          : lightEmitters[g.firstEmitter + e.alias].triangle;
+    Emitter e = lightEmitterAt(g.firstEmitter + slot);
+    uint tri = (scaled - float(slot)) < e.aliasThreshold
+                   ? e.triangle
+                   : lightEmitterAt(g.firstEmitter + e.alias).triangle;
     LightSample ls;
     ls.barycentrics = sampleUniformTriangle(uPoint);
     ls.point = surfaceAt(tri, ls.barycentrics);

@@ -36,8 +36,8 @@ LightSample sampleLight(float uSelect, vec2 uPoint) {
     uint n = sceneInfo.emitterCount;
     float scaled = uSelect * float(n);
     uint slot = min(uint(scaled), n - 1u);
-    Emitter e = emitters[slot];
-    uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle : emitters[e.alias].triangle;
+    Emitter e = emitterAt(slot);
+    uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle : emitterAt(e.alias).triangle;
     LightSample ls;
     ls.barycentrics = sampleUniformTriangle(uPoint);
     ls.point = surfaceAt(tri, ls.barycentrics);

@@ -260,7 +260,7 @@ Sampler pmcHiStream(Sampler smp, uint t, uint k, uint j) {
 // bright one until the adaptation says otherwise. Equal for lights of equal power.
 float pmcHiInitialWeight(PmcHiParams p, uint k) {
     if (k == PMC_HI_BSDF || p.sharedLight != 0u) return 1.0;
-    return float(p.lightComponents) * lightGroups[k - PMC_HI_LIGHT].power / sceneInfo.totalEmitterPower;
+    return float(p.lightComponents) * lightGroupAt(k - PMC_HI_LIGHT).power / sceneInfo.totalEmitterPower;
 }
 
 // One PMC-HI estimate of the light reflected at `sh` (the integral of eq. 4, direct lighting

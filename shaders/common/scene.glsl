@@ -8,7 +8,7 @@
 layout(set = SCENE_SET, binding = BINDING_SCENE_INFO, scalar) uniform SceneInfoBlock {
     SceneInfo sceneInfo;
 };
-// Vertices, triangles and materials are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
+// Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
 // per-lane addresses is a loop over the lanes for every word. A Vertex is two float texels
 // (position, u; normal, v), a Triangle one uint texel, a Material three (shared/scene_types.h).
@@ -35,9 +35,11 @@ Material materialAt(uint i) {
     vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(3u * i + 2u)));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
 }
-layout(set = SCENE_SET, binding = BINDING_EMITTERS, scalar) readonly buffer EmitterBuffer {
-    Emitter emitters[];
-};
+// The emitters' alias table (lights.glsl), one uint texel per Emitter.
+layout(set = SCENE_SET, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;
+
+Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
+Emitter emitterAt(uint i) { return emitterFrom(texelFetch(emitterTexels, int(i))); }
 layout(set = SCENE_SET, binding = BINDING_TEXTURE_INFOS, scalar) readonly buffer TextureInfoBuffer {
     TextureInfo textureInfos[];
 };

@@ -1,8 +1,9 @@
 // Scene data as the kernels see it. Built on the host by scene/ (glTF loader, BVH builder).
 
 // Vertex in world space. normal == (0,0,0) means "no shading normal: use the geometric one".
-// Vertex, Triangle and Material are read by the kernels as 16-byte texels (2, 1 and 3 each;
-// shaders/common/scene.glsl vertexAt, triangleAt, materialAt): keep their fields in that order.
+// Vertex, Triangle, Material, Emitter and LightGroup are read by the kernels as 16-byte texels
+// (2, 1, 3, 1 and 1 each; shaders/common/scene.glsl and light_groups.glsl: vertexAt,
+// triangleAt, materialAt, emitterAt, lightGroupAt): keep their fields in that order.
 struct Vertex {
     vec3 position;
     float u;
