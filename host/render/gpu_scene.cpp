@@ -47,24 +47,22 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         texels.insert(texels.end(), t.rgba8.begin(), t.rgba8.end());
     }
 
+    // The read-only tables the kernels fetch as 16-byte uint texels (shaders/common/scene.glsl).
+    auto uintTexels = [&](const auto& values, const char* name) {
+        return vk::Buffer::texels(context, values, VK_FORMAT_R32G32B32A32_UINT, name);
+    };
     try {
         m_infoBuffer = vk::Buffer(context, sizeof(gpu::SceneInfo), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                                   "scene info");
         m_infoBuffer.upload(&m_info, sizeof(m_info));
         m_vertices = vk::Buffer::texels(context, scene.vertices, VK_FORMAT_R32G32B32A32_SFLOAT,
                                         "vertex buffer");
-        m_triangles = vk::Buffer::texels(context, scene.triangles, VK_FORMAT_R32G32B32A32_UINT,
-                                         "triangle buffer");
-        m_bvhTexels = vk::Buffer::texels(context, m_bvh.deviceTexels(),
-                                         VK_FORMAT_R32G32B32A32_UINT, "BVH texel buffer");
-        m_materials = vk::Buffer::texels(context, scene.materials, VK_FORMAT_R32G32B32A32_UINT,
-                                         "material buffer");
-        m_emitterBuffer = vk::Buffer::texels(context, m_emitters.emitters, VK_FORMAT_R32G32B32A32_UINT,
-                                             "emitter buffer");
-        m_lightGroupBuffer = vk::Buffer::texels(context, m_lightGroups.deviceGroups(),
-                                                VK_FORMAT_R32G32B32A32_UINT, "light group buffer");
-        m_lightEmitterBuffer = vk::Buffer::texels(context, m_lightGroups.emitters,
-                                                  VK_FORMAT_R32G32B32A32_UINT, "light group emitter buffer");
+        m_triangles = uintTexels(scene.triangles, "triangle buffer");
+        m_bvhTexels = uintTexels(m_bvh.deviceTexels(), "BVH texel buffer");
+        m_materials = uintTexels(scene.materials, "material buffer");
+        m_emitterBuffer = uintTexels(m_emitters.emitters, "emitter buffer");
+        m_lightGroupBuffer = uintTexels(m_lightGroups.deviceGroups(), "light group buffer");
+        m_lightEmitterBuffer = uintTexels(m_lightGroups.emitters, "light group emitter buffer");
         m_triangleLightBuffer =
             vk::Buffer::storage(context, m_lightGroups.triangleLight, "triangle light buffer");
         m_textureInfos = vk::Buffer::storage(context, textureInfos, "texture table");
