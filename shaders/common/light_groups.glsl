@@ -15,7 +15,6 @@ LightGroup lightGroupAt(uint i) {
     uvec4 t = texelFetch(lightGroupTexels, int(i));
     return LightGroup(t.x, t.y, uintBitsToFloat(t.z), t.w);
 }
-Emitter lightEmitterAt(uint i) { return emitterFrom(texelFetch(lightEmitterTexels, int(i))); }
 layout(set = SCENE_SET, binding = BINDING_TRIANGLE_LIGHTS, scalar) readonly buffer TriangleLightBuffer {
     uint triangleLights[];
 };
@@ -28,17 +27,8 @@ float lightGroupAreaPdf(uint light, uint tri) {
 // A point on light `light`: a triangle by the light's alias table (uSelect), then uniform on it.
 LightSample sampleLightGroup(uint light, float uSelect, vec2 uPoint) {
     LightGroup g = lightGroupAt(light);
-    float scaled = uSelect * float(g.emitterCount);
-    uint slot = min(uint(scaled), g.emitterCount - 1u);
-    Emitter e = lightEmitterAt(g.firstEmitter + slot);
-    uint tri = (scaled - float(slot)) < e.aliasThreshold
-                   ? e.triangle
-                   : lightEmitterAt(g.firstEmitter + e.alias).triangle;
-    LightSample ls;
-    ls.barycentrics = sampleUniformTriangle(uPoint);
-    ls.point = surfaceAt(tri, ls.barycentrics);
-    ls.pdfArea = lightGroupAreaPdf(light, tri);
-    return ls;
+    uint tri = aliasTableTriangle(lightEmitterTexels, g.firstEmitter, g.emitterCount, uSelect);
+    return lightSampleOn(tri, uPoint, lightGroupAreaPdf(light, tri));
 }
 
 #endif

@@ -8,7 +8,9 @@
 #include "common/sampling.glsl"
 #include "common/scene.glsl"
 
-// Power per unit area of an emitter triangle: luminance(Le) * pi * (2 if double-sided).
+// Power per unit area of an emitter triangle: luminance(Le) * pi * (2 if double-sided), the
+// radiant exitance of a diffuse area light (pbrt-v4 DiffuseAreaLight::Phi over its area; the
+// host's emitterPower in host/scene/scene.cpp is this times the area).
 float emitterPowerPerArea(uint tri) {
     Material m = materialAt(triangleAt(tri).material);
     float sides = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 2.0 : 1.0;
@@ -31,18 +33,19 @@ struct LightSample {
     float pdfArea;     // selection pmf / triangle area
 };
 
-// Picks an emitter with uSelect (alias table) and a point on it with uPoint.
-LightSample sampleLight(float uSelect, vec2 uPoint) {
-    uint n = sceneInfo.emitterCount;
-    float scaled = uSelect * float(n);
-    uint slot = min(uint(scaled), n - 1u);
-    Emitter e = emitterAt(slot);
-    uint tri = (scaled - float(slot)) < e.aliasThreshold ? e.triangle : emitterAt(e.alias).triangle;
+// The point uPoint picks uniformly on emitter triangle `tri`, with area density pdfArea.
+LightSample lightSampleOn(uint tri, vec2 uPoint, float pdfArea) {
     LightSample ls;
     ls.barycentrics = sampleUniformTriangle(uPoint);
     ls.point = surfaceAt(tri, ls.barycentrics);
-    ls.pdfArea = emitterAreaPdf(tri);
+    ls.pdfArea = pdfArea;
     return ls;
+}
+
+// Picks an emitter with uSelect (alias table) and a point on it with uPoint.
+LightSample sampleLight(float uSelect, vec2 uPoint) {
+    uint tri = aliasTableTriangle(emitterTexels, 0u, sceneInfo.emitterCount, uSelect);
+    return lightSampleOn(tri, uPoint, emitterAreaPdf(tri));
 }
 
 // Converts an area density at `lightPoint` (seen from `from`) to solid angle: p_A d^2 / |cos|.

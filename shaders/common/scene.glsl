@@ -10,19 +10,20 @@ layout(set = SCENE_SET, binding = BINDING_SCENE_INFO, scalar) uniform SceneInfoB
 };
 // Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
-// per-lane addresses is a loop over the lanes for every word. A Vertex is two float texels
-// (position, u; normal, v), a Triangle one uint texel, a Material three (shared/scene_types.h).
+// per-lane addresses is a loop over the lanes for every word. A Vertex is VERTEX_TEXELS float
+// texels (position, u; normal, v), a Triangle one uint texel, a Material MATERIAL_TEXELS
+// (shared/scene_types.h).
 layout(set = SCENE_SET, binding = BINDING_VERTICES) uniform samplerBuffer vertexTexels;
 layout(set = SCENE_SET, binding = BINDING_TRIANGLES) uniform usamplerBuffer triangleTexels;
 layout(set = SCENE_SET, binding = BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
 
 Vertex vertexAt(uint i) {
-    vec4 a = texelFetch(vertexTexels, int(2u * i));
-    vec4 b = texelFetch(vertexTexels, int(2u * i + 1u));
+    vec4 a = texelFetch(vertexTexels, int(VERTEX_TEXELS * i));
+    vec4 b = texelFetch(vertexTexels, int(VERTEX_TEXELS * i + 1u));
     return Vertex(a.xyz, a.w, b.xyz, b.w);
 }
 
-vec3 vertexPosition(uint i) { return texelFetch(vertexTexels, int(2u * i)).xyz; }
+vec3 vertexPosition(uint i) { return texelFetch(vertexTexels, int(VERTEX_TEXELS * i)).xyz; }
 
 Triangle triangleAt(uint i) {
     uvec4 t = texelFetch(triangleTexels, int(i));
@@ -30,16 +31,27 @@ Triangle triangleAt(uint i) {
 }
 
 Material materialAt(uint i) {
-    uvec4 a = texelFetch(materialTexels, int(3u * i));
-    uvec4 b = texelFetch(materialTexels, int(3u * i + 1u));
-    vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(3u * i + 2u)));
+    uvec4 a = texelFetch(materialTexels, int(MATERIAL_TEXELS * i));
+    uvec4 b = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 1u));
+    vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 2u)));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
 }
 // The emitters' alias table (lights.glsl), one uint texel per Emitter.
 layout(set = SCENE_SET, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;
 
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
-Emitter emitterAt(uint i) { return emitterFrom(texelFetch(emitterTexels, int(i))); }
+
+// The triangle an alias table (Walker 1977; host/scene/scene.cpp buildAliasTable) picks with u:
+// slot floor(u n) of the n entries from `first` in `table`, kept when the rest of u n is below
+// its threshold, else its alias (relative to `first`).
+uint aliasTableTriangle(usamplerBuffer table, uint first, uint n, float u) {
+    float scaled = u * float(n);
+    uint slot = min(uint(scaled), n - 1u);
+    Emitter e = emitterFrom(texelFetch(table, int(first + slot)));
+    return (scaled - float(slot)) < e.aliasThreshold
+               ? e.triangle
+               : emitterFrom(texelFetch(table, int(first + e.alias))).triangle;
+}
 layout(set = SCENE_SET, binding = BINDING_TEXTURE_INFOS, scalar) readonly buffer TextureInfoBuffer {
     TextureInfo textureInfos[];
 };

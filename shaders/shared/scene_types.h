@@ -1,9 +1,11 @@
 // Scene data as the kernels see it. Built on the host by scene/ (glTF loader, BVH builder).
 
-// Vertex in world space. normal == (0,0,0) means "no shading normal: use the geometric one".
 // Vertex, Triangle, Material, Emitter and LightGroup are read by the kernels as 16-byte texels
-// (2, 1, 3, 1 and 1 each; shaders/common/scene.glsl and light_groups.glsl: vertexAt,
-// triangleAt, materialAt, emitterAt, lightGroupAt): keep their fields in that order.
+// (VERTEX_TEXELS, 1, MATERIAL_TEXELS, 1 and 1 each; shaders/common/scene.glsl vertexAt,
+// triangleAt, materialAt, aliasTableTriangle and light_groups.glsl lightGroupAt): keep their
+// fields in that order.
+
+// Vertex in world space. normal == (0,0,0) means "no shading normal: use the geometric one".
 struct Vertex {
     vec3 position;
     float u;
@@ -11,6 +13,7 @@ struct Vertex {
     float v;
 };
 PMCR_CHECK_SIZE(Vertex, 32);
+PMCR_CONST uint VERTEX_TEXELS = 2;
 
 // Triangle in the scene's original order: vertex indices and material.
 struct Triangle {
@@ -108,6 +111,7 @@ struct Material {
     float ior;
 };
 PMCR_CHECK_SIZE(Material, 48);
+PMCR_CONST uint MATERIAL_TEXELS = 3;
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.
@@ -130,6 +134,11 @@ struct LightGroup {
     uint pad;
 };
 PMCR_CHECK_SIZE(LightGroup, 16);
+#ifdef __cplusplus
+static_assert(sizeof(Vertex) == 16 * VERTEX_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
+              sizeof(Triangle) == 16 && sizeof(Emitter) == 16 && sizeof(LightGroup) == 16,
+              "scene tables are read as whole 16-byte texels");
+#endif
 
 PMCR_CONST uint LIGHT_NONE = 0xFFFFFFFFu;  // triangleLight of a triangle that does not emit
 
