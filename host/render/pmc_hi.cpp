@@ -1,5 +1,8 @@
 #include "render/pmc_hi.h"
 
+#include <algorithm>
+#include <cstdlib>
+#include <sstream>
 #include <string>
 
 #include "core/error.h"
@@ -15,6 +18,11 @@ std::vector<MethodOption> pmcHiMethodOptions() {
         {"cone-initial", "0.2", "cone weight after the first iteration (the others scaled by 1 - it)"},
         {"max-light-components", "4", "one component per light up to this many lights, else one for all"},
         {"alpha-floor", "0.05", "defensive floor of the BSDF and light weights (keeps it unbiased)"},
+        {"adapt-rate", "1",
+         "how far each iteration moves the weights to eq. 9's (1: all the way, the paper)"},
+        {"initial-alpha", "paper",
+         "the first iteration's weights without feedback: paper (BSDF and lights equal, the lights' "
+         "share split by power) or BSDF,LIGHT... (one per light component, ',' or '/' between; floored, normalised)"},
         {"rao-blackwell", "on",
          "weights f / K with the full mixture; off: f / h_k of the sample's own component (sec. 7), "
          "which misses the light outside a component's support",
@@ -49,8 +57,26 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
     o.params.iterations = uint32_t(iterations);
     o.params.coneInitial = float(cone);
     o.params.alphaFloor = float(floor);
+    const double rate = settings.optionDouble("adapt-rate", 1.0);
+    if (!(rate > 0.0 && rate <= 1.0)) throw Error("--adapt-rate: expected 0 < rate <= 1");
+    o.params.adaptRate = float(rate);
     o.params.flags = settings.optionBool("rao-blackwell", true) ? gpu::PMC_HI_FLAG_RAO_BLACKWELL : 0u;
     o.maxLightComponents = uint32_t(maxLights);
+    std::string initialAlpha = settings.optionString("initial-alpha", "paper");
+    if (initialAlpha != "paper") {
+        // '/' separates the weights too, for pmcr bench --methods, whose ',' separates methods.
+        std::replace(initialAlpha.begin(), initialAlpha.end(), '/', ',');
+        std::stringstream in(initialAlpha);
+        std::string field;
+        while (std::getline(in, field, ',')) {
+            char* end = nullptr;
+            const double v = std::strtod(field.c_str(), &end);
+            if (field.empty() || *end != '\0' || !(v >= 0.0 && v <= 1e6))
+                throw Error("--initial-alpha: expected paper or non-negative weights BSDF,LIGHT..., got '" +
+                            initialAlpha + "'");
+            o.initialAlpha.push_back(v);
+        }
+    }
     return o;
 }
 
@@ -59,6 +85,20 @@ gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene
     const uint32_t lights = uint32_t(scene.lightGroups().lights.size());
     p.sharedLight = lights > options.maxLightComponents ? 1u : 0u;
     p.lightComponents = p.sharedLight ? 1u : lights;
+    if (!options.initialAlpha.empty()) {
+        // The BSDF's weight, then one per light component (slots PMC_HI_BSDF, PMC_HI_LIGHT + l).
+        const size_t expected = 1 + p.lightComponents;
+        if (options.initialAlpha.size() != expected)
+            throw Error("--initial-alpha: this scene has " + std::to_string(expected) +
+                        " components to weigh (the BSDF, then " +
+                        (p.sharedLight ? std::string("one shared light component") :
+                                         std::to_string(p.lightComponents) + " lights") +
+                        "), got " + std::to_string(options.initialAlpha.size()) + " weights");
+        p.initialAlpha[gpu::PMC_HI_BSDF] = float(options.initialAlpha[0]);
+        for (uint32_t l = 0; l < p.lightComponents; ++l)
+            p.initialAlpha[gpu::PMC_HI_LIGHT + l] = float(options.initialAlpha[1 + l]);
+        p.flags |= gpu::PMC_HI_FLAG_INITIAL_ALPHA;
+    }
     return p;
 }
 

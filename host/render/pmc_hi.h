@@ -18,6 +18,7 @@ namespace pmcr {
 struct PmcHiOptions {
     gpu::PmcHiParams params{};  // lightComponents and sharedLight: see pmcHiParamsForScene
     uint32_t maxLightComponents = 4;
+    std::vector<double> initialAlpha;  // --initial-alpha: empty for the paper's
 };
 
 // The options of both PMC-HI methods, for the registry.

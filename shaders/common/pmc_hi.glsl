@@ -257,8 +257,10 @@ Sampler pmcHiStream(Sampler smp, uint t, uint k, uint j) {
 // makes them equal; with one component per light, pmcr gives the BSDF component its equal share
 // 1 / (1 + lights) and splits the lights' share in proportion to their power, as light
 // selection does in MIS direct lighting (lights.glsl): a dim light gets fewer samples than a
-// bright one until the adaptation says otherwise. Equal for lights of equal power.
+// bright one until the adaptation says otherwise. Equal for lights of equal power. Weights the
+// user gave (--initial-alpha) take the defensive floor, as feedback weights do.
 float pmcHiInitialWeight(PmcHiParams p, uint k) {
+    if ((p.flags & PMC_HI_FLAG_INITIAL_ALPHA) != 0u) return max(p.initialAlpha[k], p.alphaFloor);
     if (k == PMC_HI_BSDF || p.sharedLight != 0u) return 1.0;
     return float(p.lightComponents) * lightGroupAt(k - PMC_HI_LIGHT).power / sceneInfo.totalEmitterPower;
 }
@@ -335,8 +337,9 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
         // Adapt (sec. 5.2). Without any weight there is nothing to learn: keep the kernel.
         if (wTotal > 0.0) {
             const bool hadCone = kern.coneOneMinusCos > 0.0;
-            // Eq. 9: each component's share of the weight.
-            for (uint k = 0u; k < m; ++k) kern.alpha[k] = wSum[k] / wTotal;
+            // Eq. 9: each component's share of the weight, taken in full (the paper) or, with
+            // --adapt-rate below 1, part of the way from the current weights.
+            for (uint k = 0u; k < m; ++k) kern.alpha[k] = mix(kern.alpha[k], wSum[k] / wTotal, p.adaptRate);
             // Cone axis: the weighted mean direction; half-angle beta: the weighted RMS angle
             // about it in chord measure (2 sin(beta/2) = RMS |w_i - axis|), for which
             // 1 - cos(beta) = 1 - |mean of w_i| exactly.

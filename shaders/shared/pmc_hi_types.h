@@ -23,6 +23,7 @@ PMCR_CONST float PMC_HI_CONE_MIN_ANGLE = 0.02f;
 PMCR_CONST uint PMC_HI_FLAG_RAO_BLACKWELL = 1u;  // w = f / K (eq. 8); else f / h_k (sec. 7) [biased]
 PMCR_CONST uint PMC_HI_FLAG_RECORD_ALPHA = 2u;   // add each pixel's final alpha to the alpha sums
 PMCR_CONST uint PMC_HI_FLAG_FEEDBACK = 4u;       // start from the pixel's alpha, write each result's
+PMCR_CONST uint PMC_HI_FLAG_INITIAL_ALPHA = 8u;  // iteration 0 without feedback: initialAlpha
 
 // Work-set binding of pmc_hi.comp beside the path tracer's (render_types.h PT_BINDING_*):
 // per pixel PMC_HI_ALPHA_STRIDE floats: the sums of the final alpha of its estimates by slot,
@@ -44,15 +45,19 @@ struct PmcHiParams {
     float alphaFloor;            // defensive floor of the BSDF and light weights
     uint flags;                  // PMC_HI_FLAG_*
     uint initialPopulationPerComponent;  // the same for iteration 0
+    // With PMC_HI_FLAG_INITIAL_ALPHA, iteration 0's weights (without feedback) by slot, before
+    // the floor and normalisation; the cone's is ignored (it has no axis yet).
+    float initialAlpha[PMC_HI_MAX_COMPONENTS];
+    float adaptRate;             // a = (1 - rate) a + rate a(eq. 9); 1: eq. 9 (the paper)
 };
-PMCR_CHECK_SIZE(PmcHiParams, 32);
+PMCR_CHECK_SIZE(PmcHiParams, 76);
 
 // Push constants of pmc_hi.comp: the path tracer's, then PMC-HI's.
 struct PmcHiPush {
     PtPush pt;
     PmcHiParams hi;
 };
-PMCR_CHECK_SIZE(PmcHiPush, 80);
+PMCR_CHECK_SIZE(PmcHiPush, 124);  // within the 128 bytes every device has
 
 // Input of the PMC-HI test kernel (shaders/tests/pmc_hi_test.comp): a mixture and the shading
 // point it samples at (triangle, barycentrics, wo), on the bound scene.
@@ -67,4 +72,4 @@ struct PmcHiTestSetup {
     uint m;                // slots in use (DMS)
     uint N;                // population (DMS)
 };
-PMCR_CHECK_SIZE(PmcHiTestSetup, 120);
+PMCR_CHECK_SIZE(PmcHiTestSetup, 164);

@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "core/error.h"
 #include "gpu_test.h"
 #include "render_test.h"
 #include "statistics.h"
@@ -109,6 +110,39 @@ TEST_F(PmcHiTest, UnbiasedWithASmallerFirstIteration) {
     const auto run = renderForTest(testScene("scenes/checkers-two-lights.glb"), s);
     EXPECT_EQ(run.stats["method_stats"]["samples_per_estimate"].get<int>(), 16);  // (1 + 3) x 4
     expectUnbiased("scenes/checkers-two-lights.glb", s, 32);
+}
+
+// Given first-iteration weights (--initial-alpha), here all on the BSDF: the lights keep the
+// defensive floor's weight, the deterministic mixture gives them a sample in some estimates and
+// none in others, and the estimate (eq. 1 with K's weights) stays unbiased.
+TEST_F(PmcHiTest, UnbiasedWithGivenInitialWeights) {
+    RenderSettings s = pmcHiSettings(24, 4);
+    s.options["initial-alpha"] = "1/0/0";
+    s.options["iterations"] = "1";
+    s.options["population-per-component"] = "3";
+    expectUnbiased("scenes/checkers-two-lights.glb", s, 32);
+}
+
+// Weights moved only part of the way to eq. 9's (--adapt-rate) still depend on earlier
+// iterations only, so the estimate stays unbiased.
+TEST_F(PmcHiTest, UnbiasedWithPartialUpdates) {
+    RenderSettings s = pmcHiSettings(24, 4);
+    s.options["adapt-rate"] = "0.5";
+    s.options["iterations"] = "3";
+    expectUnbiased("scenes/plant-shadows.glb", s, 32);
+}
+
+TEST_F(PmcHiTest, BadWeightOptionsAreErrors) {
+    RenderSettings s = pmcHiSettings(8, 1);
+    s.options["initial-alpha"] = "0.5/0.5";  // checkers-two-lights has the BSDF and two lights
+    EXPECT_THROW(renderForTest(testScene("scenes/checkers-two-lights.glb"), s), Error);
+    s.options["max-light-components"] = "1";  // one shared light component: two weights
+    EXPECT_NO_THROW(renderForTest(testScene("scenes/checkers-two-lights.glb"), s));
+    s.options["initial-alpha"] = "0.5/-1";
+    EXPECT_THROW(renderForTest(testScene("scenes/checkers-two-lights.glb"), s), Error);
+    s.options["initial-alpha"] = "paper";
+    s.options["adapt-rate"] = "0";
+    EXPECT_THROW(renderForTest(testScene("scenes/checkers-two-lights.glb"), s), Error);
 }
 
 // The per-component variant (sec. 7: w = f / h_k of the sample's own component) estimates
