@@ -34,7 +34,6 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_bvh = Bvh::build(scene);
     m_bvhSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_emitters = buildEmitters(scene);
-    m_info.emitterCount = uint32_t(m_emitters.emitters.size());
     m_lightGroups = buildLightGroups(scene);
     m_info.lightCount = uint32_t(m_lightGroups.lights.size());
     m_info.nodeCount = uint32_t(m_bvh.nodes().size());
@@ -60,7 +59,6 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         m_triangles = uintTexels(scene.triangles, "triangle buffer");
         m_bvhTexels = uintTexels(m_bvh.deviceTexels(), "BVH texel buffer");
         m_materials = uintTexels(scene.materials, "material buffer");
-        m_emitterBuffer = uintTexels(m_emitters.emitters, "emitter buffer");
         m_lightGroupBuffer = uintTexels(m_lightGroups.deviceGroups(), "light group buffer");
         m_lightEmitterBuffer = uintTexels(m_lightGroups.emitters, "light group emitter buffer");
         m_triangleLightBuffer =
@@ -77,7 +75,6 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_set->bind(gpu::BINDING_TRIANGLES, m_triangles);
     m_set->bind(gpu::BINDING_BVH, m_bvhTexels);
     m_set->bind(gpu::BINDING_MATERIALS, m_materials);
-    m_set->bind(gpu::BINDING_EMITTERS, m_emitterBuffer);
     m_set->bind(gpu::BINDING_LIGHT_GROUPS, m_lightGroupBuffer);
     m_set->bind(gpu::BINDING_LIGHT_EMITTERS, m_lightEmitterBuffer);
     m_set->bind(gpu::BINDING_TRIANGLE_LIGHTS, m_triangleLightBuffer);

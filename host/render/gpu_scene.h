@@ -39,7 +39,6 @@ private:
     vk::Buffer m_triangles;
     vk::Buffer m_bvhTexels;
     vk::Buffer m_materials;
-    vk::Buffer m_emitterBuffer;
     vk::Buffer m_lightGroupBuffer;
     vk::Buffer m_lightEmitterBuffer;
     vk::Buffer m_triangleLightBuffer;

@@ -159,13 +159,13 @@ LightGroupTable buildLightGroups(const Scene& scene) {
         group.power = float(buildAliasTable(groupPower, out.emitters.data() + group.firstEmitter));
         out.lights.push_back(group);
     }
+    // The group of all emitters is buildEmitters' table (its aliases are relative to its start,
+    // like a group's), the one light sampling uses (shaders/common/lights.glsl sampleLight).
+    const EmitterTable all = buildEmitters(scene);
     out.allEmitters.firstEmitter = uint32_t(out.emitters.size());
-    out.allEmitters.emitterCount = uint32_t(n);
-    for (size_t i = 0; i < n; ++i)
-        out.emitters.push_back({emissive[i], 0.0f, 1.0f, 0u});
-    if (n > 0)
-        out.allEmitters.power =
-            float(buildAliasTable(power, out.emitters.data() + out.allEmitters.firstEmitter));
+    out.allEmitters.emitterCount = uint32_t(all.emitters.size());
+    out.allEmitters.power = all.totalPower;
+    out.emitters.insert(out.emitters.end(), all.emitters.begin(), all.emitters.end());
     return out;
 }
 

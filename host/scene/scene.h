@@ -60,7 +60,7 @@ EmitterTable buildEmitters(const Scene& scene);
 // it does not emit). Lights are numbered by their first triangle in scene order.
 struct LightGroupTable {
     std::vector<gpu::LightGroup> lights;
-    gpu::LightGroup allEmitters{};        // every emitter in one group: the shared light component
+    gpu::LightGroup allEmitters{};        // every emitter (buildEmitters' table): light sampling
     std::vector<gpu::Emitter> emitters;   // alias tables, one range per light, then allEmitters'
     std::vector<uint32_t> triangleLight;  // one per scene triangle
     // The groups as the device has them: the lights, then allEmitters (index lights.size()).

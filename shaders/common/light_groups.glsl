@@ -6,15 +6,6 @@
 
 #include "common/lights.glsl"
 
-// The lights and their alias tables, one uint texel per LightGroup and per Emitter (texel
-// fetches, like the scene's other tables: scene.glsl).
-layout(set = SCENE_SET, binding = BINDING_LIGHT_GROUPS) uniform usamplerBuffer lightGroupTexels;
-layout(set = SCENE_SET, binding = BINDING_LIGHT_EMITTERS) uniform usamplerBuffer lightEmitterTexels;
-
-LightGroup lightGroupAt(uint i) {
-    uvec4 t = texelFetch(lightGroupTexels, int(i));
-    return LightGroup(t.x, t.y, uintBitsToFloat(t.z), t.w);
-}
 layout(set = SCENE_SET, binding = BINDING_TRIANGLE_LIGHTS, scalar) readonly buffer TriangleLightBuffer {
     uint triangleLights[];
 };
@@ -26,8 +17,7 @@ float lightGroupAreaPdf(uint light, uint tri) {
 
 // A point on light `light`: a triangle by the light's alias table (uSelect), then uniform on it.
 LightSample sampleLightGroup(uint light, float uSelect, vec2 uPoint) {
-    LightGroup g = lightGroupAt(light);
-    uint tri = aliasTableTriangle(lightEmitterTexels, g.firstEmitter, g.emitterCount, uSelect);
+    uint tri = lightGroupTriangle(light, uSelect);
     return lightSampleOn(tri, uPoint, lightGroupAreaPdf(light, tri));
 }
 

@@ -42,9 +42,26 @@ LightSample lightSampleOn(uint tri, vec2 uPoint, float pdfArea) {
     return ls;
 }
 
-// Picks an emitter with uSelect (alias table) and a point on it with uPoint.
+// The light groups and their alias tables, one uint texel per LightGroup and per Emitter:
+// PMC-HI's lights (light_groups.glsl), then at index sceneInfo.lightCount the group of all
+// emitters, whose table selects in proportion to power (host/scene/scene.cpp buildEmitters).
+layout(set = SCENE_SET, binding = BINDING_LIGHT_GROUPS) uniform usamplerBuffer lightGroupTexels;
+layout(set = SCENE_SET, binding = BINDING_LIGHT_EMITTERS) uniform usamplerBuffer lightEmitterTexels;
+
+LightGroup lightGroupAt(uint i) {
+    uvec4 t = texelFetch(lightGroupTexels, int(i));
+    return LightGroup(t.x, t.y, uintBitsToFloat(t.z), t.w);
+}
+
+// The triangle group `group`'s alias table picks with u.
+uint lightGroupTriangle(uint group, float u) {
+    LightGroup g = lightGroupAt(group);
+    return aliasTableTriangle(lightEmitterTexels, g.firstEmitter, g.emitterCount, u);
+}
+
+// Picks an emitter with uSelect (the alias table of all emitters) and a point on it with uPoint.
 LightSample sampleLight(float uSelect, vec2 uPoint) {
-    uint tri = aliasTableTriangle(emitterTexels, 0u, sceneInfo.emitterCount, uSelect);
+    uint tri = lightGroupTriangle(sceneInfo.lightCount, uSelect);
     return lightSampleOn(tri, uPoint, emitterAreaPdf(tri));
 }
 

@@ -36,9 +36,6 @@ Material materialAt(uint i) {
     vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 2u)));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
 }
-// The emitters' alias table (lights.glsl), one uint texel per Emitter.
-layout(set = SCENE_SET, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;
-
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
 // The triangle an alias table (Walker 1977; host/scene/scene.cpp buildAliasTable) picks with u:

@@ -6,16 +6,18 @@
 
 PMCR_CONST uint SCENE_SET = 0;
 PMCR_CONST uint BINDING_SCENE_INFO = 0;      // SceneInfo (uniform)
-PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[] as a float texel buffer, 2 texels each
+PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[] as a float texel buffer, VERTEX_TEXELS each
 PMCR_CONST uint BINDING_TRIANGLES = 2;       // Triangle[] as a uint texel buffer (original order)
                                              // 3: unused
 PMCR_CONST uint BINDING_BVH = 4;             // uvec4 texel buffer: nodes and triangles (Bvh::deviceTexels)
-PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[] as a uint texel buffer, 3 texels each
-PMCR_CONST uint BINDING_EMITTERS = 6;        // Emitter[] as a uint texel buffer (alias table over emitters)
+PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[] as a uint texel buffer, MATERIAL_TEXELS each
+                                             // 6: unused (the emitters' alias table is the
+                                             // light group of all emitters, below)
 PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]
 PMCR_CONST uint BINDING_TEXELS = 8;          // uint[] (RGBA8, sRGB-encoded colour)
-PMCR_CONST uint BINDING_LIGHT_GROUPS = 9;     // LightGroup[] as a uint texel buffer (connected emitters, PMC-HI)
-PMCR_CONST uint BINDING_LIGHT_EMITTERS = 10;  // Emitter[] as a uint texel buffer (per light alias tables)
+PMCR_CONST uint BINDING_LIGHT_GROUPS = 9;     // LightGroup[] as a uint texel buffer: the lights
+                                              // (connected emitters, PMC-HI), then all emitters
+PMCR_CONST uint BINDING_LIGHT_EMITTERS = 10;  // Emitter[] as a uint texel buffer (their alias tables)
 PMCR_CONST uint BINDING_TRIANGLE_LIGHTS = 11; // uint[] per triangle: its LightGroup, or LIGHT_NONE
 PMCR_CONST uint SCENE_BINDING_COUNT = 12;
 

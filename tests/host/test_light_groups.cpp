@@ -66,7 +66,17 @@ void expectConsistent(const Scene& scene, const LightGroupTable& t) {
     EXPECT_EQ(all, emitters);
     EXPECT_EQ(t.allEmitters.firstEmitter, inLights);
     EXPECT_EQ(t.emitters.size(), 2 * emitters.size());
-    EXPECT_EQ(t.allEmitters.power, buildEmitters(scene).totalPower);
+    // The group of all emitters is light sampling's table itself, entry for entry.
+    const EmitterTable table = buildEmitters(scene);
+    EXPECT_EQ(t.allEmitters.power, table.totalPower);
+    for (size_t i = 0; i < table.emitters.size(); ++i) {
+        const gpu::Emitter& a = table.emitters[i];
+        const gpu::Emitter& b = t.emitters[t.allEmitters.firstEmitter + i];
+        EXPECT_EQ(a.triangle, b.triangle);
+        EXPECT_EQ(a.aliasThreshold, b.aliasThreshold);
+        EXPECT_EQ(a.alias, b.alias);
+        EXPECT_EQ(a.pmf, b.pmf);
+    }
     const std::vector<gpu::LightGroup> device = t.deviceGroups();
     ASSERT_EQ(device.size(), t.lights.size() + 1);
     EXPECT_EQ(device.back().firstEmitter, t.allEmitters.firstEmitter);
