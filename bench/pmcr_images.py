@@ -1,8 +1,8 @@
-"""Image helpers shared by the bench scripts' Python parts (no numpy: Debian's python3 alone).
+"""Helpers shared by the bench scripts' Python parts (no numpy: Debian's python3 alone).
 
 PFM images as pmcr writes them (`-o NAME.pfm`), luminance and the perceptual threshold tvi as
-host/metrics and host/image/tvi.cpp compute them, and per-pixel perceptual variances over
-independent renders.
+host/metrics and host/image/tvi.cpp compute them, per-pixel variances over independent
+renders, and the grids of mixture weights the ceiling benches render.
 """
 import math
 import struct
@@ -60,3 +60,19 @@ def blur(values, w, h, r):
             ys, xs = range(max(0, y - r), min(h, y + r + 1)), range(max(0, x - r), min(w, x + r + 1))
             out.append(sum(values[j * w + i] for j in ys for i in xs) / (len(ys) * len(xs)))
     return out
+
+
+def simplex_grid(components, step):
+    """Weight vectors of `components` non-negative weights summing to one, in steps of `step`,
+    written as pmcr's options take them ("0.25/0.75/0")."""
+    units = round(1 / step)
+
+    def tuples(n, total):
+        if n == 1:
+            yield (total,)
+            return
+        for first in range(total + 1):
+            for rest in tuples(n - 1, total - first):
+                yield (first,) + rest
+
+    return ["/".join(f"{x / units:g}" for x in t) for t in tuples(components, units)]

@@ -60,8 +60,7 @@ void main() {
         }
         PmcErMember m;
         m.remaining = 0.0;
-        m.alpha = vec3(push.componentCount > 0u ? 1.0 / float(push.componentCount) : 0.0);
-        for (uint k = push.componentCount; k < PMC_ER_MAX_RADII; ++k) m.alpha[k] = 0.0;
+        m.alpha = push.initialAlpha;  // the host zeroes the weights beyond componentCount
         m.acceptSum = vec3(0.0);
         m.mutations = 0u;
         m.shares = 0.0;

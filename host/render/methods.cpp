@@ -86,6 +86,8 @@ const std::vector<MethodInfo>& methods() {
           {"radii", "5,10,50", "perturbation radii in pixels, 1 to 3, separated by , or / (strategy image: red, green, blue)"},
           {"resample-rate", "0.4", "share of the population eliminated (by remaining energy) and regenerated per iteration"},
           {"epsilon", "0.1", "floor of the radius weights alpha"},
+          {"initial-alpha", "uniform", "a new member's radius weights: uniform (the paper) or one weight per radius (',' or '/' between; normalised)"},
+          {"adapt-rate", "1", "how far each update moves a member's weights to sec. 4.5's (1: all the way, the paper; 0: they stay fixed)"},
           {"caustic-probability", "0.9", "gamma_caustic: chance of a caustic perturbation where it applies"},
           {"pass-spp", "4", "pool paths per pixel per pass, exactly that many in every pixel (sets the iterations); passes are averaged"},
           {"acceptance", "component", "component: each radius's own transition density (eq. 9); mixture: the density of the whole radius mixture (eq. 8)"},

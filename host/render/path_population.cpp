@@ -62,8 +62,9 @@ std::vector<uint32_t> activeMembers(const std::vector<gpu::PmcErMember>& members
     return list;
 }
 
-PathPopulation::PathPopulation(uint32_t size, int components, double resampleRate, double epsilon)
-    : m_size(size), m_components(components), m_epsilon(epsilon) {
+PathPopulation::PathPopulation(uint32_t size, int components, double resampleRate, double epsilon,
+                               double adaptRate)
+    : m_size(size), m_components(components), m_epsilon(epsilon), m_adaptRate(adaptRate) {
     if (size == 0) throw Error("--population: expected at least one member");
     if (!(resampleRate >= 0.0 && resampleRate <= 1.0)) throw Error("--resample-rate: expected 0..1");
     const double r = std::round(resampleRate * double(size));
@@ -71,6 +72,7 @@ PathPopulation::PathPopulation(uint32_t size, int components, double resampleRat
 }
 
 void PathPopulation::adapt(std::vector<gpu::PmcErMember>& members) const {
+    if (m_adaptRate <= 0.0) return;
     for (gpu::PmcErMember& m : members) {
         std::array<double, kMaxPopulationRadii> prime{}, current{};
         for (int k = 0; k < m_components; ++k) {
@@ -78,7 +80,8 @@ void PathPopulation::adapt(std::vector<gpu::PmcErMember>& members) const {
             current[size_t(k)] = m.alpha[k];
         }
         const auto alpha = mixtureWeights(prime, m_components, m_epsilon, current);
-        for (int k = 0; k < m_components; ++k) m.alpha[k] = float(alpha[size_t(k)]);
+        for (int k = 0; k < m_components; ++k)
+            m.alpha[k] = float((1.0 - m_adaptRate) * current[size_t(k)] + m_adaptRate * alpha[size_t(k)]);
     }
 }
 

@@ -68,7 +68,9 @@ struct PathResampleResult {
 
 class PathPopulation {
 public:
-    PathPopulation(uint32_t size, int components, double resampleRate, double epsilon);
+    // adaptRate r: adapt() moves alpha the share r of the way to the update (beyond the paper,
+    // whose update is r = 1; r = 0 keeps every member's weights as they were born).
+    PathPopulation(uint32_t size, int components, double resampleRate, double epsilon, double adaptRate = 1.0);
 
     uint32_t size() const { return m_size; }
     int components() const { return m_components; }
@@ -76,7 +78,8 @@ public:
     uint32_t replacementsPerIteration() const { return m_replacements; }
 
     // The alpha update (sec. 4.5): alpha'_k = sum of the acceptance probabilities of component k
-    // since the member was made, alpha_k = eps + (1 - eps) alpha'_k / sum alpha'.
+    // since the member was made, alpha_k = eps + (1 - eps) alpha'_k / sum alpha'; with adaptRate
+    // r, alpha <- (1 - r) alpha + r (that update).
     void adapt(std::vector<gpu::PmcErMember>& members) const;
     // Elimination: exactly replacementsPerIteration() members are eliminated when enough have
     // energy (members without energy go first, and when there are more of those, the rest stay
@@ -88,6 +91,7 @@ private:
     uint32_t m_size;
     int m_components;
     double m_epsilon;
+    double m_adaptRate;
     uint32_t m_replacements;
 };
 

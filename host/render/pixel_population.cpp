@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "core/error.h"
 #include "image/tvi.h"
+#include "render/settings.h"
 
 namespace pmcr {
 
@@ -55,21 +55,16 @@ std::array<double, kMaxPopulationRadii> adaptAlpha(
 }
 
 std::vector<double> parseRadii(const std::string& text) {
-    // Commas or slashes (`pmcr bench --methods` splits methods at commas).
-    std::string list = text;
-    std::replace(list.begin(), list.end(), '/', ',');
+    const char* expected = "--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50";
     std::vector<double> radii;
-    std::stringstream ss(list);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        char* end = nullptr;
-        const double r = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !(r > 0.0) || !std::isfinite(r))
-            throw Error("--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50");
-        radii.push_back(r);
+    try {
+        radii = parseNumberList("radii", text);
+    } catch (const Error&) {
+        throw Error(expected);
     }
-    if (radii.empty() || radii.size() > size_t(kMaxPopulationRadii))
-        throw Error("--radii: expected 1 to 3 positive radii in pixels, e.g. 5,10,50");
+    if (radii.empty() || radii.size() > size_t(kMaxPopulationRadii)) throw Error(expected);
+    for (double r : radii)
+        if (!(r > 0.0)) throw Error(expected);
     return radii;
 }
 

@@ -50,6 +50,25 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     if (!(o.resampleRate > 0.0 && o.resampleRate <= 1.0)) throw Error("--resample-rate: expected (0, 1]");
     o.epsilon = s.optionDouble("epsilon", o.epsilon);
     if (!(o.epsilon >= 0.0 && o.epsilon <= 1.0)) throw Error("--epsilon: expected 0..1");
+    // Beyond the paper (its members start uniform and adapt fully): given starting weights and
+    // partial or no adaptation, which bench/pmc-er-ceiling uses to render fixed mixtures.
+    o.initialAlpha.assign(o.radii.size(), 1.0 / double(o.radii.size()));
+    if (s.optionString("initial-alpha", "uniform") != "uniform") {
+        const std::string text = s.optionString("initial-alpha", "");
+        const std::vector<double> w = s.optionNumbers("initial-alpha", "");
+        double sum = 0.0;
+        bool negative = false;
+        for (double v : w) {
+            sum += v;
+            negative = negative || v < 0.0;
+        }
+        if (w.size() != o.radii.size() || negative || !(sum > 0.0))
+            throw Error("--initial-alpha: expected uniform or " + std::to_string(o.radii.size()) +
+                        " non-negative weights, one per radius, not all zero, got '" + text + "'");
+        for (size_t k = 0; k < w.size(); ++k) o.initialAlpha[k] = w[k] / sum;
+    }
+    o.adaptRate = s.optionDouble("adapt-rate", o.adaptRate);
+    if (!(o.adaptRate >= 0.0 && o.adaptRate <= 1.0)) throw Error("--adapt-rate: expected 0..1");
     o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
     if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
         throw Error("--caustic-probability: expected a probability");
@@ -100,7 +119,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
         : o.paperPopulation ? std::max<uint32_t>(64, uint32_t(std::lround(kPaperMembersPerPixel * pixels)))
                             : std::max<uint32_t>(64, pixels / kPixelsPerMember);
     const int components = int(o.radii.size());
-    PathPopulation paths(population, components, o.resampleRate, o.epsilon);
+    PathPopulation paths(population, components, o.resampleRate, o.epsilon, o.adaptRate);
     const uint32_t replacements = paths.replacementsPerIteration();
     // A render of fewer paths per pixel than a pass is one shorter pass.
     const uint32_t rounds = std::max(settings.spp > 0 ? std::min(o.passSpp, settings.spp) : o.passSpp,
@@ -180,7 +199,10 @@ RenderOutput PmcEr::render(RenderSession& session) {
     push.seed = settings.seed;
     push.componentCount = uint32_t(components);
     push.seedScale = seedScale;
-    for (int k = 0; k < components; ++k) push.radii[k] = float(o.radii[size_t(k)]);
+    for (int k = 0; k < components; ++k) {
+        push.radii[k] = float(o.radii[size_t(k)]);
+        push.initialAlpha[k] = float(o.initialAlpha[size_t(k)]);
+    }
     push.causticProbability = o.causticProbability;
     push.birth = o.birth;
     // Q: a member's lifetime in mutations (units of e_d); by default the mean energy of a pool

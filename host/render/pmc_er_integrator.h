@@ -41,6 +41,8 @@ struct PmcErOptions {
     std::vector<double> radii = {5.0, 10.0, 50.0};
     double resampleRate = 0.4;
     double epsilon = 0.1;
+    std::vector<double> initialAlpha;  // a new member's radius weights, normalised (uniform: the paper)
+    double adaptRate = 1.0;          // share of the way to the sec. 4.5 update (1: the paper, 0: fixed)
     float causticProbability = 0.9f; // gamma_caustic
     uint32_t passSpp = 4;            // pool positions per pixel per pass (rounds of the pool)
     bool depositDirect = true;       // --redistribute indirect: direct seed paths at their pixel

@@ -1,8 +1,5 @@
 #include "render/pmc_hi.h"
 
-#include <algorithm>
-#include <cstdlib>
-#include <sstream>
 #include <string>
 
 #include "core/error.h"
@@ -62,20 +59,12 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
     o.params.adaptRate = float(rate);
     o.params.flags = settings.optionBool("rao-blackwell", true) ? gpu::PMC_HI_FLAG_RAO_BLACKWELL : 0u;
     o.maxLightComponents = uint32_t(maxLights);
-    std::string initialAlpha = settings.optionString("initial-alpha", "paper");
-    if (initialAlpha != "paper") {
-        // '/' separates the weights too, for pmcr bench --methods, whose ',' separates methods.
-        std::replace(initialAlpha.begin(), initialAlpha.end(), '/', ',');
-        std::stringstream in(initialAlpha);
-        std::string field;
-        while (std::getline(in, field, ',')) {
-            char* end = nullptr;
-            const double v = std::strtod(field.c_str(), &end);
-            if (field.empty() || *end != '\0' || !(v >= 0.0 && v <= 1e6))
+    if (settings.optionString("initial-alpha", "paper") != "paper") {
+        o.initialAlpha = settings.optionNumbers("initial-alpha", "paper");
+        for (double v : o.initialAlpha)
+            if (!(v >= 0.0 && v <= 1e6))
                 throw Error("--initial-alpha: expected paper or non-negative weights BSDF,LIGHT..., got '" +
-                            initialAlpha + "'");
-            o.initialAlpha.push_back(v);
-        }
+                            settings.optionString("initial-alpha", "") + "'");
     }
     return o;
 }

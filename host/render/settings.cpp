@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include "core/error.h"
 
@@ -42,6 +43,30 @@ std::string RenderSettings::optionString(const std::string& name,
                                          const std::string& defaultValue) const {
     auto it = options.find(name);
     return it == options.end() ? defaultValue : it->second;
+}
+
+std::vector<double> RenderSettings::optionNumbers(const std::string& name,
+                                                  const std::string& defaultValue) const {
+    return parseNumberList(name, optionString(name, defaultValue));
+}
+
+std::vector<double> parseNumberList(const std::string& option, const std::string& text) {
+    std::string list = text;
+    for (char& c : list)
+        if (c == '/') c = ',';
+    std::vector<double> numbers;
+    std::stringstream in(list);
+    std::string field;
+    bool ok = !list.empty() && list.back() != ',';
+    while (ok && std::getline(in, field, ',')) {
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(field.c_str(), &end);
+        ok = !field.empty() && *end == '\0' && errno != ERANGE && std::isfinite(v);
+        numbers.push_back(v);
+    }
+    if (!ok) throw Error("--" + option + ": expected numbers separated by , or /, got '" + text + "'");
+    return numbers;
 }
 
 }  // namespace pmcr

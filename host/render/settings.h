@@ -36,6 +36,13 @@ struct RenderSettings {
     double optionDouble(const std::string& name, double defaultValue) const;
     bool optionBool(const std::string& name, bool defaultValue) const;
     std::string optionString(const std::string& name, const std::string& defaultValue) const;
+    // A list of numbers separated by ',' or '/' (`pmcr bench --methods` splits methods at
+    // commas): parseNumberList of the option's value, or of `defaultValue`.
+    std::vector<double> optionNumbers(const std::string& name, const std::string& defaultValue) const;
 };
+
+// "5,10,50" or "5/10/50" -> {5, 10, 50}; throws pmcr::Error naming --`option` on an empty list,
+// an empty field or one that is not a finite number.
+std::vector<double> parseNumberList(const std::string& option, const std::string& text);
 
 }  // namespace pmcr

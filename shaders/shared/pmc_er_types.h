@@ -52,5 +52,7 @@ struct PmcErPush {
     uint pad0;
     uint pad1;
     uint pad2;
+    vec3 initialAlpha;       // seed: a new member's radius weights (sum 1; --initial-alpha)
+    float pad3;
 };
-PMCR_CHECK_SIZE(PmcErPush, 80);
+PMCR_CHECK_SIZE(PmcErPush, 96);

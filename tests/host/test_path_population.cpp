@@ -1,5 +1,5 @@
 // PMC-ER's host side (render/path_population.h) on hand-made populations: the alpha update
-// against the paper's formula, the survival probabilities (proportional to remaining energy,
+// against the paper's formula (and its partial form, --adapt-rate), the survival probabilities (proportional to remaining energy,
 // capped at one, summing to the survivors), systematic sampling's inclusion frequencies
 // (chi-square), the energy invariant of elimination (survivors carry E / p) and the list of
 // living members the mutation kernel runs through.
@@ -34,6 +34,20 @@ TEST(PathPopulation, AlphaFollowsTheAcceptanceSums) {
     // Nothing accepted yet: the weights stay as they were.
     EXPECT_FLOAT_EQ(members[1].alpha[0], 1.0f / 3.0f);
     EXPECT_FLOAT_EQ(members[1].alpha[2], 1.0f / 3.0f);
+}
+
+// --adapt-rate r (beyond the paper): the share r of the way from the current weights to the
+// update; r = 0 keeps them.
+TEST(PathPopulation, AdaptRateBlendsTheUpdateAndZeroKeepsTheWeights) {
+    const glm::vec3 sums(1.0f, 3.0f, 0.0f);
+    std::vector<gpu::PmcErMember> full = {member(1.0f, sums)}, half = full, fixed = full;
+    PathPopulation(4, 3, 0.4, 0.1, 1.0).adapt(full);
+    PathPopulation(4, 3, 0.4, 0.1, 0.5).adapt(half);
+    PathPopulation(4, 3, 0.4, 0.1, 0.0).adapt(fixed);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(half[0].alpha[k], 0.5 / 3.0 + 0.5 * full[0].alpha[k], 1e-6) << k;
+        EXPECT_FLOAT_EQ(fixed[0].alpha[k], 1.0f / 3.0f) << k;
+    }
 }
 
 TEST(PathPopulation, SurvivalIsProportionalToEnergyCappedAtOne) {

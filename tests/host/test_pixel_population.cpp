@@ -1,14 +1,16 @@
 // PMC-PT's host side (render/pixel_population.h) against direct references: disk sampling and
 // a step's proposals against their expected counts over brute-force pixel disks (chi-square),
 // the alpha and beta updates against the paper's formulas, the pool's stratification and the
-// resampling proportions.
+// resampling proportions; and the option lists of radii.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
+#include "core/error.h"
 #include "image/tvi.h"
 #include "render/pixel_population.h"
+#include "render/settings.h"
 #include "statistics.h"
 
 namespace pmcr::test {
@@ -23,6 +25,17 @@ std::vector<glm::ivec2> pixelDisk(glm::ivec2 c, double r, int w, int h) {
             if (dx * dx + dy * dy <= r * r) pixels.push_back({x, y});
         }
     return pixels;
+}
+
+// Lists of numbers in options ("5,10,50" or "5/10/50", as pmcr bench --methods needs) and the
+// radii checks built on them.
+TEST(PixelPopulation, NumberListsAndRadiiParse) {
+    EXPECT_EQ(parseNumberList("x", "5,10,50"), (std::vector<double>{5.0, 10.0, 50.0}));
+    EXPECT_EQ(parseNumberList("x", "0.5/0.25/0"), (std::vector<double>{0.5, 0.25, 0.0}));
+    for (const char* bad : {"", "5,", ",5", "5//10", "5,x", "1e999", "nan"})
+        EXPECT_THROW(parseNumberList("x", bad), Error) << bad;
+    EXPECT_EQ(parseRadii("3/10"), (std::vector<double>{3.0, 10.0}));
+    for (const char* bad : {"0", "5,-1", "1,2,3,4", "", "5,"}) EXPECT_THROW(parseRadii(bad), Error) << bad;
 }
 
 TEST(PixelPopulation, PixelDiskSamplesAreUniformOverTheClippedDisk) {

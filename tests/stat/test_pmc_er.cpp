@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/error.h"
 #include "gpu_test.h"
 #include "render_test.h"
 #include "statistics.h"
@@ -109,6 +110,35 @@ TEST_P(PmcErUnbiasedTest, AgainstPathTracing) {
 
 // Each radius's own transition density (eq. 9) and the radius mixture's (eq. 8).
 INSTANTIATE_TEST_SUITE_P(Acceptance, PmcErUnbiasedTest, ::testing::Values("component", "mixture"));
+
+// Fixed weights that leave out a radius (--initial-alpha, --adapt-rate 0: what
+// bench/pmc-er-ceiling renders): every component keeps f invariant, so any fixed mixture of them
+// does too.
+TEST_F(PmcErTest, UnbiasedWithFixedWeights) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    RenderSettings s = pmcErSettings(20, 16);
+    s.options["initial-alpha"] = "0.25/0.75/0";
+    s.options["adapt-rate"] = "0";
+    RenderSettings pt = s;
+    pt.method = "pt";
+    pt.options.clear();
+    pt.spp = 64;
+    const auto result = zTestRenders(scene, s, 40, 3000, renderMoments(scene, pt, 16, 5000));
+    EXPECT_GE(result.passFraction, 0.9975) << result.describe();
+}
+
+TEST_F(PmcErTest, BadWeightOptionsAreErrors) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    RenderSettings s = pmcErSettings(8, 1);
+    for (const char* alpha : {"1/1", "1/-1/1", "0/0/0", "1//1", "uniformly"}) {
+        s.options["initial-alpha"] = alpha;
+        EXPECT_THROW(renderForTest(scene, s), Error) << alpha;
+    }
+    s.options["initial-alpha"] = "2/1/1";  // normalised
+    EXPECT_NO_THROW(renderForTest(scene, s));
+    s.options["adapt-rate"] = "1.5";
+    EXPECT_THROW(renderForTest(scene, s), Error);
+}
 
 }  // namespace
 }  // namespace pmcr::test
