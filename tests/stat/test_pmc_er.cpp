@@ -94,17 +94,21 @@ TEST_F(PmcErTest, FurnaceGivesItsAnalyticValue) {
 // these 400 pixels with 16 passes (68 with 8 passes under an older kernel; with the 4 mutations
 // below their bias is too small to see), too bright where the image is dark and too dark where
 // it is bright (host/render/path_population.h).
+PixelTestResult zTestAgainstPathTracing(const Scene& scene, const RenderSettings& s) {
+    RenderSettings pt = s;
+    pt.method = "pt";
+    pt.options.clear();
+    pt.spp = 64;
+    return zTestRenders(scene, s, 40, 3000, renderMoments(scene, pt, 16, 5000));
+}
+
 class PmcErUnbiasedTest : public PmcErTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(PmcErUnbiasedTest, AgainstPathTracing) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
     RenderSettings s = pmcErSettings(20, 16);
     s.options["acceptance"] = GetParam();
-    RenderSettings pt = s;
-    pt.method = "pt";
-    pt.options.clear();
-    pt.spp = 64;
-    const auto result = zTestRenders(scene, s, 40, 3000, renderMoments(scene, pt, 16, 5000));
+    const auto result = zTestAgainstPathTracing(scene, s);
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
@@ -119,11 +123,7 @@ TEST_F(PmcErTest, UnbiasedWithFixedWeights) {
     RenderSettings s = pmcErSettings(20, 16);
     s.options["initial-alpha"] = "0.25/0.75/0";
     s.options["adapt-rate"] = "0";
-    RenderSettings pt = s;
-    pt.method = "pt";
-    pt.options.clear();
-    pt.spp = 64;
-    const auto result = zTestRenders(scene, s, 40, 3000, renderMoments(scene, pt, 16, 5000));
+    const auto result = zTestAgainstPathTracing(scene, s);
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
