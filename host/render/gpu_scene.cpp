@@ -33,11 +33,11 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     auto start = std::chrono::steady_clock::now();
     m_bvh = Bvh::build(scene);
     m_bvhSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    m_emitters = buildEmitters(scene);
     m_lightGroups = buildLightGroups(scene);
     m_info.lightCount = uint32_t(m_lightGroups.lights.size());
     m_info.nodeCount = uint32_t(m_bvh.nodes().size());
-    m_info.totalEmitterPower = m_emitters.totalPower;
+    // The group of all emitters is buildEmitters' table, so its power is the emitters' total.
+    m_info.totalEmitterPower = m_lightGroups.allEmitters.power;
 
     std::vector<gpu::TextureInfo> textureInfos;
     std::vector<uint32_t> texels;

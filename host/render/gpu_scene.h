@@ -23,14 +23,12 @@ public:
     const gpu::SceneInfo& info() const { return m_info; }
     const Scene& scene() const { return m_scene; }
     const Bvh& bvh() const { return m_bvh; }
-    const EmitterTable& emitters() const { return m_emitters; }
     const LightGroupTable& lightGroups() const { return m_lightGroups; }
     double bvhBuildSeconds() const { return m_bvhSeconds; }
 
 private:
     const Scene& m_scene;
     Bvh m_bvh;
-    EmitterTable m_emitters;
     LightGroupTable m_lightGroups;
     gpu::SceneInfo m_info{};
     double m_bvhSeconds = 0.0;

@@ -166,7 +166,7 @@ struct SceneInfo {
     vec3 sceneCenter;
     float sceneRadius;
     uint triangleCount;
-    uint pad3;             // (was the emitter count: light sampling reads it from its light group)
+    uint pad3;             // unused (the emitter count is the last light group's)
     uint nodeCount;
     float totalEmitterPower;
     uint lightCount;       // PMC-HI's lights (LightGroup[]); the group of all emitters follows them

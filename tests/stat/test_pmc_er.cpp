@@ -127,6 +127,26 @@ TEST_F(PmcErTest, UnbiasedWithFixedWeights) {
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
+// The z-test above would pass if the weights were ignored: the members' mean final weights show
+// they are used, kept with --adapt-rate 0 and moved away from with the default rate.
+TEST_F(PmcErTest, GivenWeightsAreUsedAndKept) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    RenderSettings s = pmcErSettings(16, 4);
+    // Members adapt between iterations only while the pass's pool lasts; with Q = 100 so few
+    // pool paths make members that this image uses its pool up at birth: a short lifetime.
+    s.options["lifetime"] = "10";
+    s.options["initial-alpha"] = "2/1/1";
+    s.options["adapt-rate"] = "0";
+    const auto fixed = renderForTest(scene, s).stats["method_stats"]["mean_final_alpha"];
+    ASSERT_EQ(fixed.size(), 3u);
+    EXPECT_NEAR(fixed[0].get<double>(), 0.5, 1e-6);
+    EXPECT_NEAR(fixed[1].get<double>(), 0.25, 1e-6);
+    EXPECT_NEAR(fixed[2].get<double>(), 0.25, 1e-6);
+    s.options.erase("adapt-rate");
+    const auto adapted = renderForTest(scene, s).stats["method_stats"]["mean_final_alpha"];
+    EXPECT_GT(std::abs(adapted[0].get<double>() - 0.5), 1e-3);
+}
+
 TEST_F(PmcErTest, BadWeightOptionsAreErrors) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
     RenderSettings s = pmcErSettings(8, 1);
