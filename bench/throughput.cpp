@@ -1,15 +1,20 @@
-// Ray-traversal throughput: the GPU kernel (shaders/common/bvh.glsl) against the host's scalar
-// C++ traversal of the same BVH on one thread, for coherent primary rays and incoherent bounce
-// rays, plus path-tracing samples per second. Prints one table; ratios are measured in the same
-// run on the same machine.
+// Ray-traversal throughput: the GPU kernel (shaders/common/bvh.glsl) against Embree (the speed
+// anchor, when found at configure time) and the host's scalar C++ traversal of the same BVH on one
+// thread, for coherent primary rays, incoherent bounce rays and shadow (any-hit) rays, plus
+// path-tracing samples per second. Prints one table, or with --json one object per scene; ratios
+// are measured in the same run on the same machine.
 //
-//   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--cpu-time] [SCENE...]
+//   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N] [--threads T]
+//                         [--cpu-time] [--json] [SCENE...]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <random>
+#include <thread>
 
+#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
 #include "cli/args.h"
@@ -19,8 +24,12 @@
 #include "render/renderer.h"
 #include "scene/bvh.h"
 #include "scene/gltf_loader.h"
+#include "scene/scene.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
+#ifdef PMCR_HAVE_EMBREE
+#include "embree_tracer.h"
+#endif
 
 using namespace pmcr;
 
@@ -29,17 +38,29 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 const char* const kUsage =
-    "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--cpu-time] SCENE...\n"
+    "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N]\n"
+    "                             [--threads T] [--cpu-time] [--json] SCENE...\n"
     "       (bench/throughput runs it on the default scene and the dragon)\n"
     "\n"
-    "Traces one set of primary rays (one per pixel of a W x H image, default 256 x 256, through\n"
-    "the scene's camera) and one set of cosine-distributed bounce rays from their hits, with the\n"
-    "GPU kernel (shaders/common/bvh.glsl, one dispatch, shader compiled beforehand) and with the\n"
-    "host's scalar C++ traversal of the same BVH on one thread; prints Mrays/s of both and their\n"
-    "ratio, and path-tracing samples/s (pt, 4 spp at W x H). Warns if GPU and CPU hits differ.\n"
+    "Traces three ray sets: primary rays (one per pixel of a W x H image, default 256 x 256,\n"
+    "through the scene's camera), cosine-distributed bounce rays from their hits, and shadow\n"
+    "(any-hit) rays from the bounce rays' hits to random emitter points (chosen by power,\n"
+    "uniform on the triangle). Each set is traced by the GPU kernel (shaders/common/bvh.glsl, one\n"
+    "dispatch, shader compiled beforehand), by Embree 3 with a high-quality BVH on T threads (the\n"
+    "fastest of rtcIntersect1, rtcIntersect8 and rtcIntersect1M; only when the benchmark was\n"
+    "built with Embree) and by the host's scalar C++ traversal of pmcr's BVH on one thread; each\n"
+    "timing is the best of N runs. Prints Mrays/s and the GPU/Embree ratios, and path-tracing\n"
+    "samples/s (pt, 4 spp at W x H). Warns when the tracers' hits disagree.\n"
     "Ratios are measured in one run on one machine; compare ratios, not absolute rates.\n"
     "  --width W --height H  ray set size (16..4096, default 256)\n"
     "  --device ID           Vulkan device index or name substring (see pmcr --list-devices)\n"
+    "  --repeats N           runs of each timing, the best kept (1..20, default 3)\n"
+    "  --threads T           Embree's threads (default: $LP_NUM_THREADS, else the CPU count,\n"
+    "                        the threads lavapipe uses)\n"
+    "  --json                print a JSON array on stdout, one object per scene, nothing else:\n"
+    "                        scene, triangles, {gpu,embree}_{primary,bounce,shadow}_mrays,\n"
+    "                        cpu_{primary,bounce}_mrays, pt_msamples (Embree keys null\n"
+    "                        without Embree)\n"
     "  --cpu-time            also print Mrays/s per CPU second: the process's CPU time during\n"
     "                        the dispatch (on lavapipe, its worker threads) and the tracing\n"
     "                        thread's CPU time; steadier than wall time on a loaded machine\n";
@@ -101,27 +122,69 @@ std::vector<gpu::BvhQuery> bounceRays(const Scene& scene, const std::vector<gpu:
     return rays;
 }
 
+// Shadow rays: from each bounce ray's hit towards a random emitter point (an emitter chosen by
+// power as the renderer's light sampling does, a uniform point on its triangle), ending just
+// short of it. Traced as any-hit queries.
+std::vector<gpu::BvhQuery> shadowRays(const Scene& scene, const std::vector<gpu::BvhQuery>& bounce,
+                                      const std::vector<gpu::Hit>& hits, std::mt19937& rng) {
+    const EmitterTable table = buildEmitters(scene);
+    std::vector<double> weights;
+    for (const gpu::Emitter& e : table.emitters) weights.push_back(e.pmf);
+    std::discrete_distribution<size_t> pick(weights.begin(), weights.end());
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<gpu::BvhQuery> rays;
+    for (size_t i = 0; i < bounce.size(); ++i) {
+        if (hits[i].triangle == gpu::BVH_NO_HIT) continue;
+        const gpu::Triangle& t = scene.triangles[hits[i].triangle];
+        const glm::vec3 p0 = scene.vertices[t.i0].position, p1 = scene.vertices[t.i1].position,
+                        p2 = scene.vertices[t.i2].position;
+        glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        if (glm::dot(n, bounce[i].direction) > 0.0f) n = -n;
+        const glm::vec3 p = bounce[i].origin + hits[i].t * bounce[i].direction;
+        const gpu::Triangle& l = scene.triangles[table.emitters[pick(rng)].triangle];
+        const float su = std::sqrt(u(rng)), b1 = 1.0f - su, b2 = u(rng) * su;
+        const glm::vec3 q = (1.0f - b1 - b2) * scene.vertices[l.i0].position +
+                            b1 * scene.vertices[l.i1].position + b2 * scene.vertices[l.i2].position;
+        const glm::vec3 o = p + n * 1e-4f * std::max(1.0f, glm::length(p));
+        const float dist = glm::length(q - o);
+        if (!(dist > 0.0f)) continue;
+        rays.push_back({o, dist * (1.0f - 1e-4f), (q - o) / dist, 0});
+    }
+    return rays;
+}
+
 struct Timing {
     double seconds = 0.0;
     double cpuSeconds = 0.0;  // threadCpu (host traversal) or processCpu (GPU dispatch)
     std::vector<gpu::Hit> hits;
 };
 
-Timing traceCpu(const Bvh& bvh, const std::vector<gpu::BvhQuery>& rays) {
+Timing traceCpu(const Bvh& bvh, const std::vector<gpu::BvhQuery>& rays, bool anyHit, int repeats) {
     Timing t;
     t.hits.resize(rays.size());
-    auto start = Clock::now();
-    const double cpuStart = threadCpu();
-    for (size_t i = 0; i < rays.size(); ++i)
-        if (!bvh.traceClosest(rays[i].origin, rays[i].direction, rays[i].tMax, t.hits[i]))
-            t.hits[i].triangle = gpu::BVH_NO_HIT;
-    t.seconds = secondsSince(start);
-    t.cpuSeconds = threadCpu() - cpuStart;
+    t.seconds = 1e30;
+    for (int rep = 0; rep < repeats; ++rep) {
+        auto start = Clock::now();
+        const double cpuStart = threadCpu();
+        for (size_t i = 0; i < rays.size(); ++i) {
+            if (anyHit) {
+                const bool hit = bvh.traceAny(rays[i].origin, rays[i].direction, rays[i].tMax);
+                t.hits[i] = {hit ? 0.0f : rays[i].tMax, 0u, 0.0f, 0.0f};
+            } else if (!bvh.traceClosest(rays[i].origin, rays[i].direction, rays[i].tMax, t.hits[i])) {
+                t.hits[i].triangle = gpu::BVH_NO_HIT;
+            }
+        }
+        const double seconds = secondsSince(start);
+        if (seconds < t.seconds) {
+            t.seconds = seconds;
+            t.cpuSeconds = threadCpu() - cpuStart;
+        }
+    }
     return t;
 }
 
 Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
-                const std::vector<gpu::BvhQuery>& rays) {
+                const std::vector<gpu::BvhQuery>& rays, bool anyHit, int repeats) {
     vk::Kernel kernel(layout, "bench/trace_rays");
     auto queries = vk::Buffer::storage(context, rays, "bench rays");
     vk::Buffer hits(context, std::max<size_t>(16, rays.size() * sizeof(gpu::Hit)),
@@ -133,30 +196,43 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
         uint32_t count;
         uint32_t anyHit;
     };
+    const uint32_t flag = anyHit ? 1u : 0u;
     // Warm-up: the first dispatch compiles the shader on lavapipe.
     {
         vk::CommandBatch batch(layout);
         batch.bind(scene.descriptorSet());
         batch.bind(work);
-        batch.dispatch(kernel, Push{std::min<uint32_t>(uint32_t(rays.size()), 64), 0}, 64);
+        batch.dispatch(kernel, Push{std::min<uint32_t>(uint32_t(rays.size()), 64), flag}, 64);
         batch.submitAndWait();
     }
     Timing t;
-    auto start = Clock::now();
-    const double cpuStart = processCpu();
-    vk::CommandBatch batch(layout);
-    batch.bind(scene.descriptorSet());
-    batch.bind(work);
-    batch.dispatch(kernel, Push{uint32_t(rays.size()), 0}, uint32_t(rays.size()));
-    batch.submitAndWait();
-    t.seconds = secondsSince(start);
-    t.cpuSeconds = processCpu() - cpuStart;
+    t.seconds = 1e30;
+    for (int rep = 0; rep < repeats; ++rep) {
+        auto start = Clock::now();
+        const double cpuStart = processCpu();
+        vk::CommandBatch batch(layout);
+        batch.bind(scene.descriptorSet());
+        batch.bind(work);
+        batch.dispatch(kernel, Push{uint32_t(rays.size()), flag}, uint32_t(rays.size()));
+        batch.submitAndWait();
+        const double seconds = secondsSince(start);
+        if (seconds < t.seconds) {
+            t.seconds = seconds;
+            t.cpuSeconds = processCpu() - cpuStart;
+        }
+    }
     t.hits = hits.download<gpu::Hit>(rays.size());
     return t;
 }
 
-double agreement(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b) {
+// Share of rays on which two tracers agree: the same triangle, or hits at the same distance
+// (a ray through a shared edge may report either triangle); for any-hit sets, the same answer.
+double agreement(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b, bool anyHit) {
     size_t same = 0;
+    if (anyHit) {  // every tracer stores t = 0 for occluded, tMax for clear
+        for (size_t i = 0; i < a.size(); ++i) same += (a[i].t == 0.0f) == (b[i].t == 0.0f);
+        return a.empty() ? 1.0 : double(same) / double(a.size());
+    }
     for (size_t i = 0; i < a.size(); ++i)
         same += a[i].triangle == b[i].triangle ||
                 (a[i].triangle != gpu::BVH_NO_HIT && b[i].triangle != gpu::BVH_NO_HIT &&
@@ -164,13 +240,54 @@ double agreement(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b)
     return a.empty() ? 1.0 : double(same) / double(a.size());
 }
 
+// Mrays/s of one ray set by each tracer.
+struct RaySetResult {
+    double gpu = 0.0, embree = 0.0, cpu = 0.0;
+    double gpuPerCpuSecond = 0.0, cpuPerCpuSecond = 0.0;
+    const char* embreeApi = "";
+    double agreeCpu = 1.0, agreeEmbree = 1.0;
+};
+
+RaySetResult measure(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& gpuScene,
+                     [[maybe_unused]] const void* embree, const std::vector<gpu::BvhQuery>& rays,
+                     bool anyHit, [[maybe_unused]] bool coherent, int repeats, Timing& cpu) {
+    auto mrays = [&](double s) { return s > 0.0 ? double(rays.size()) / s * 1e-6 : 0.0; };
+    RaySetResult r;
+    cpu = traceCpu(gpuScene.bvh(), rays, anyHit, repeats);
+    Timing gpu = traceGpu(context, layout, gpuScene, rays, anyHit, repeats);
+    r.gpu = mrays(gpu.seconds);
+    r.cpu = mrays(cpu.seconds);
+    r.gpuPerCpuSecond = mrays(gpu.cpuSeconds);
+    r.cpuPerCpuSecond = mrays(cpu.cpuSeconds);
+    r.agreeCpu = agreement(cpu.hits, gpu.hits, anyHit);
+#ifdef PMCR_HAVE_EMBREE
+    const auto* tracer = static_cast<const bench::EmbreeTracer*>(embree);
+    if (tracer) {
+        double best = 1e30;
+        for (auto api : {bench::EmbreeTracer::Api::Single, bench::EmbreeTracer::Api::Packet8,
+                         bench::EmbreeTracer::Api::Stream}) {
+            auto e = tracer->trace(rays, anyHit, coherent, api, repeats);
+            if (e.seconds < best) {
+                best = e.seconds;
+                r.embreeApi = bench::EmbreeTracer::apiName(api);
+                r.agreeEmbree = agreement(cpu.hits, e.hits, anyHit);
+            }
+        }
+        r.embree = mrays(best);
+    }
+#endif
+    return r;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     try {
         cli::Args args(argc, argv, 1);
-        int width = 256, height = 256;
-        bool cpuTime = false;
+        int width = 256, height = 256, repeats = 3;
+        bool cpuTime = false, json = false;
+        unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+        if (const char* lp = std::getenv("LP_NUM_THREADS"); lp && std::atoi(lp) > 0) threads = unsigned(std::atoi(lp));
         std::string device;
         std::vector<std::string> scenes;
         while (!args.done()) {
@@ -178,7 +295,10 @@ int main(int argc, char** argv) {
             if (a == "--width") width = cli::parseInt(a, args.value(a), 16, 4096);
             else if (a == "--height") height = cli::parseInt(a, args.value(a), 16, 4096);
             else if (a == "--device") device = args.value(a);
+            else if (a == "--repeats") repeats = cli::parseInt(a, args.value(a), 1, 20);
+            else if (a == "--threads") threads = unsigned(cli::parseInt(a, args.value(a), 1, 256));
             else if (a == "--cpu-time") cpuTime = true;
+            else if (a == "--json") json = true;
             else if (a == "--help" || a == "-h") {
                 std::printf("%s", kUsage);
                 return 0;
@@ -191,22 +311,37 @@ int main(int argc, char** argv) {
         options.device = device;
         vk::Context context(options);
         vk::PipelineLayout layout(context);
-        std::printf("device: %s (%s); %dx%d rays per set; CPU = scalar C++ BVH traversal, 1 thread\n\n",
-                    context.deviceName().c_str(), context.deviceTypeName().c_str(), width, height);
-        std::printf("%-22s %9s | %-31s | %-31s | %10s\n", "scene", "triangles",
-                    "primary Mrays/s: GPU  CPU  ratio", "bounce Mrays/s: GPU  CPU  ratio", "pt Msamp/s");
+#ifdef PMCR_HAVE_EMBREE
+        const bool haveEmbree = true;
+#else
+        const bool haveEmbree = false;
+#endif
+        if (!json) {
+            std::printf("device: %s (%s); %dx%d camera rays; best of %d runs; Embree: %s; CPU = scalar C++ "
+                        "traversal of pmcr's BVH, 1 thread\n\n",
+                        context.deviceName().c_str(), context.deviceTypeName().c_str(), width, height, repeats,
+                        haveEmbree ? (std::to_string(threads) + " threads, high-quality BVH").c_str()
+                                   : "not built (libembree-dev missing at configure time)");
+            std::printf("%-20s %9s | %-8s %8s %8s %8s %8s | %10s\n", "scene", "triangles", "rays", "GPU",
+                        "Embree", "GPU/Emb", "CPU", "pt Msamp/s");
+        }
+        nlohmann::json out = nlohmann::json::array();
         for (const auto& path : scenes) {
             Scene scene = loadScene(path);
             GpuScene gpuScene(context, layout, scene, 0, width, height);
+            const void* embree = nullptr;
+#ifdef PMCR_HAVE_EMBREE
+            bench::EmbreeTracer embreeTracer(scene, threads);
+            embree = &embreeTracer;
+#endif
             std::mt19937 rng(7);
             auto primary = primaryRays(gpuScene.info(), rng);
-            Timing cpuPrimary = traceCpu(gpuScene.bvh(), primary);
-            Timing gpuPrimary = traceGpu(context, layout, gpuScene, primary);
+            Timing cpuPrimary, cpuBounce, cpuShadow;
+            RaySetResult p = measure(context, layout, gpuScene, embree, primary, false, true, repeats, cpuPrimary);
             auto bounce = bounceRays(scene, primary, cpuPrimary.hits, rng);
-            Timing cpuBounce = traceCpu(gpuScene.bvh(), bounce);
-            Timing gpuBounce = traceGpu(context, layout, gpuScene, bounce);
-            const double agreePrimary = agreement(cpuPrimary.hits, gpuPrimary.hits);
-            const double agreeBounce = agreement(cpuBounce.hits, gpuBounce.hits);
+            RaySetResult b = measure(context, layout, gpuScene, embree, bounce, false, false, repeats, cpuBounce);
+            auto shadow = shadowRays(scene, bounce, cpuBounce.hits, rng);
+            RaySetResult sh = measure(context, layout, gpuScene, embree, shadow, true, false, repeats, cpuShadow);
 
             RenderSettings s;
             s.method = "pt";
@@ -215,26 +350,45 @@ int main(int argc, char** argv) {
             s.spp = 4;
             s.quiet = true;
             RenderResult r = renderScene(context, scene, s);
-            const double ptRate = double(r.output.cameraSamples) / r.seconds;
+            const double ptRate = double(r.output.cameraSamples) / r.seconds * 1e-6;
+            const std::string name = std::filesystem::path(path).filename().string();
 
-            auto mrays = [](size_t n, double s) { return double(n) / s * 1e-6; };
-            const double gp = mrays(primary.size(), gpuPrimary.seconds), cp = mrays(primary.size(), cpuPrimary.seconds);
-            const double gb = mrays(bounce.size(), gpuBounce.seconds), cb = mrays(bounce.size(), cpuBounce.seconds);
-            std::printf("%-22s %9zu | %8.2f %6.2f %7.2fx       | %8.2f %6.2f %7.2fx       | %10.3f\n",
-                        std::filesystem::path(path).filename().string().c_str(), scene.triangles.size(),
-                        gp, cp, gp / cp, gb, cb, gb / cb, ptRate * 1e-6);
-            if (cpuTime) {
-                const double gpc = mrays(primary.size(), gpuPrimary.cpuSeconds);
-                const double cpc = mrays(primary.size(), cpuPrimary.cpuSeconds);
-                const double gbc = mrays(bounce.size(), gpuBounce.cpuSeconds);
-                const double cbc = mrays(bounce.size(), cpuBounce.cpuSeconds);
-                std::printf("%-22s %9s | %8.2f %6.2f %7.2fx       | %8.2f %6.2f %7.2fx       |\n",
-                            "  per CPU second", "", gpc, cpc, gpc / cpc, gbc, cbc, gbc / cbc);
+            auto orNull = [&](double v) { return haveEmbree ? nlohmann::json(v) : nlohmann::json(nullptr); };
+            out.push_back({{"scene", name},
+                           {"triangles", scene.triangles.size()},
+                           {"gpu_primary_mrays", p.gpu},
+                           {"gpu_bounce_mrays", b.gpu},
+                           {"gpu_shadow_mrays", sh.gpu},
+                           {"embree_primary_mrays", orNull(p.embree)},
+                           {"embree_bounce_mrays", orNull(b.embree)},
+                           {"embree_shadow_mrays", orNull(sh.embree)},
+                           {"cpu_primary_mrays", p.cpu},
+                           {"cpu_bounce_mrays", b.cpu},
+                           {"pt_msamples", ptRate}});
+            if (json) continue;
+            const struct {
+                const char* name;
+                const RaySetResult& r;
+            } rows[] = {{"primary", p}, {"bounce", b}, {"shadow", sh}};
+            for (const auto& row : rows) {
+                const bool first = &row.r == &p;
+                char ratio[16] = "-";
+                if (haveEmbree) std::snprintf(ratio, sizeof ratio, "%.2fx", row.r.gpu / row.r.embree);
+                std::printf("%-20s %9s | %-8s %8.2f %8.2f %8s %8.2f | %10s\n", first ? name.c_str() : "",
+                            first ? std::to_string(scene.triangles.size()).c_str() : "", row.name, row.r.gpu,
+                            row.r.embree, ratio, row.r.cpu, first ? std::to_string(ptRate).substr(0, 5).c_str() : "");
+                if (cpuTime)
+                    std::printf("%-20s %9s | %-8s %8.2f %8s %8s %8.2f |\n", "", "", "  /CPU s", row.r.gpuPerCpuSecond,
+                                "", "", row.r.cpuPerCpuSecond);
+                if (row.r.agreeCpu < 0.999 || (haveEmbree && row.r.agreeEmbree < 0.99))
+                    std::printf("  warning: %s rays: GPU agrees with the CPU traversal on %.4f, Embree (%s) on %.4f\n",
+                                row.name, row.r.agreeCpu, row.r.embreeApi, row.r.agreeEmbree);
             }
-            if (agreePrimary < 0.999 || agreeBounce < 0.999)
-                std::printf("  warning: GPU and CPU hits agree on %.4f (primary), %.4f (bounce) of rays\n",
-                            agreePrimary, agreeBounce);
+            if (haveEmbree)
+                std::printf("%-20s %9s | Embree's fastest API: %s (primary), %s (bounce), %s (shadow)\n", "", "",
+                            p.embreeApi, b.embreeApi, sh.embreeApi);
         }
+        if (json) std::printf("%s\n", out.dump(2).c_str());
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "pmcr-bench-throughput: error: %s\n", e.what());
