@@ -14,4 +14,5 @@ vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint rays, uint record
     return pathTrace(raster, s, push.maxDepth, push.rrDepth, rays, recordIndex);
 }
 
+#define CAMERA_SAMPLE_PATH_STATES
 #include "common/camera_sample_kernel.glsl"

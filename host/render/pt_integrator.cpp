@@ -22,6 +22,10 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
     if (mode == Mode::PmcHi) m_hi = parsePmcHiOptions(settings);
 }
 
+uint32_t tilePixelsPerInvocation(const vk::Context& context) {
+    return context.isCpuDevice() ? 8 : 1;
+}
+
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session) {
     work.bind(gpu::PT_BINDING_FILM, film.pixels());
     work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
@@ -77,6 +81,11 @@ RenderOutput PathTracer::render(RenderSession& session) {
     push.maxDepth = m_mode == Mode::Full ? settings.maxDepth : 1;
     push.rrDepth = settings.rrDepth;
     push.lightSamples = m_lightSamples;
+    // pt.comp's paths in turn (camera_sample_kernel.glsl): on a CPU device (lavapipe's 8-lane
+    // SIMD) each invocation takes several pixels so that its lanes stay busy; on a GPU one
+    // pixel per invocation keeps every core fed. The image is the same bit for bit either way.
+    const uint32_t pixelsPerInvocation = m_mode == Mode::Full ? tilePixelsPerInvocation(session.context()) : 1;
+    push.pixelsPerInvocation = pixelsPerInvocation;
 
     vk::CommandBatch batch(session.layout(), &session.timer());
     uint32_t pass = 0;
@@ -113,7 +122,7 @@ RenderOutput PathTracer::render(RenderSession& session) {
                 hiPush.pt = push;
                 batch.dispatch(kernel, hiPush, count);
             } else {
-                batch.dispatch(kernel, push, count);
+                batch.dispatch(kernel, push, (count + pixelsPerInvocation - 1) / pixelsPerInvocation);
             }
             batchSamples += uint64_t(count) * passes;
             offset += count;

@@ -16,6 +16,11 @@ namespace pmcr {
 // `film`; their request and result lists, unused there, at the session's placeholder.
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session);
 
+// Pixels per invocation of pt.comp's tile dispatches on `context`'s device (PtPush::
+// pixelsPerInvocation): 8 on a CPU device, whose SIMD lanes would otherwise idle while the
+// longest path of their vector ends; 1 on a GPU.
+uint32_t tilePixelsPerInvocation(const vk::Context& context);
+
 class PathTracer : public Integrator {
 public:
     enum class Mode { Full, Direct, PmcHi };

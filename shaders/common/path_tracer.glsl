@@ -23,142 +23,180 @@ layout(set = WORK_SET, binding = PT_BINDING_PATH_VERTICES, scalar) writeonly buf
 };
 #endif
 
+// A path under construction: what pathBounce carries from one bounce to the next. Splitting the
+// path tracer into pathBegin / pathBounce / pathEnd lets pt.comp run several paths in turn in
+// one invocation (a new one starts as soon as the last ends, camera_sample_kernel.glsl), so
+// that SIMD lanes whose path ended early do not idle until their neighbours' paths end.
+struct PathState {
+    vec3 L;               // radiance gathered so far
+    vec3 beta;            // path throughput
+    vec3 origin;          // the next ray
+    vec3 dir;
+    vec3 prevPosition;    // the previous vertex, for the MIS weight of emission hit by BSDF sampling
+    float prevPdf;        // the solid-angle pdf of the BSDF sample that reached the next vertex
+    float etaScale;       // product of eta^2 over transmissions (pbrt-v4), for roulette
+    bool prevDelta;       // the next vertex was reached by a delta lobe (or is seen by the camera)
+    uint depth;           // bounces so far
+#ifdef PT_RECORD_PATHS
+    uint firstVertex;
+    uint vertexCount;
+#endif
+};
+
+// The path whose first ray leaves the camera through raster position `raster`.
+PathState pathBegin(vec2 raster, uint recordIndex) {
+    PathState p;
+    p.L = vec3(0.0);
+    p.beta = vec3(1.0);
+    p.etaScale = 1.0;
+    p.prevDelta = true;   // the camera "samples" x1 with a delta, so x1's emission counts fully
+    p.prevPdf = 0.0;
+    p.prevPosition = sceneInfo.cameraPosition;
+    p.origin = sceneInfo.cameraPosition;
+    p.dir = cameraDirection(raster);
+    p.depth = 0u;
+#ifdef PT_RECORD_PATHS
+    p.firstVertex = recordIndex * PATH_MAX_VERTICES;
+    p.vertexCount = 0u;
+#endif
+    return p;
+}
+
+// One bounce: traces the path's next ray, adds the emission found there and one light sample
+// (next-event estimation), then samples the BSDF for the next ray. Returns false when the path
+// has ended (escaped, absorbed, maxDepth reached or stopped by Russian roulette); p.L is then
+// final. A path takes at most maxDepth + 1 bounces.
+bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDepth, inout uint rays) {
+    Hit hit;
+    rays += 1u;
+    if (!traceClosest(p.origin, p.dir, FLOAT_MAX, hit)) return false;
+    SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    vec3 wo = -p.dir;
+    ShadingPoint sh = makeShadingPoint(s, wo);
+#ifdef PT_RECORD_PATHS
+    PathVertex pv;
+    pv.position = s.position;
+    pv.triangle = s.triangle;
+    pv.normal = s.normal;
+    pv.flags = sh.front ? 0u : VERTEX_BACKFACE;
+    pv.shadingNormal = s.shadingNormal;
+    pv.material = s.material;
+    pv.barycentrics = vec2(hit.b1, hit.b2);
+    pv.pdfForward = 0.0;
+    pv.lobe = LOBE_NONE;
+    pv.lightPosition = vec3(0.0);
+    pv.lightTriangle = 0u;
+    pv.explicitContribution = vec3(0.0);
+    pv.lightB1 = 0.0;
+    pv.implicitContribution = vec3(0.0);
+    pv.lightB2 = 0.0;
+#endif
+
+    // Emission at the hit, MIS-weighted against light sampling unless reached by a delta.
+    vec3 Le = emittedRadiance(s, wo);
+    if (maxComponent(Le) > 0.0) {
+        float w = 1.0;
+        if (!p.prevDelta) {
+            float pdfLight = areaToSolidAngle(emitterAreaPdf(s.triangle), p.prevPosition,
+                                              s.position, s.normal);
+            w = powerHeuristic(p.prevPdf, pdfLight);
+        }
+        vec3 contribution = p.beta * Le * w;
+        p.L += contribution;
+#ifdef PT_RECORD_PATHS
+        pv.flags |= VERTEX_EMITTER;
+        pv.implicitContribution = contribution;
+#endif
+    }
+    bool stop = p.depth == maxDepth;
+
+    // Next-event estimation: one light sample, MIS-weighted against BSDF sampling.
+    float uLight = samplerGet1D(smp);
+    vec2 uLightPoint = samplerGet2D(smp);
+    if (!stop && bsdfHasNonDelta(sh.bsdf)) {
+        LightSample ls = sampleLight(uLight, uLightPoint);
+        vec3 toLight = ls.point.position - s.position;
+        float dist2 = dot(toLight, toLight);
+        vec3 wi = toLight * inversesqrt(dist2);
+        vec3 Lemit = emittedRadiance(ls.point, -wi);
+        float pdfLight = areaToSolidAngle(ls.pdfArea, s.position, ls.point.position, ls.point.normal);
+        if (maxComponent(Lemit) > 0.0 && pdfLight > 0.0) {
+            float pdfBsdf, absCos;
+            vec3 f = shadingEval(sh, wi, pdfBsdf, absCos);
+            if (maxComponent(f) > 0.0 && visible(sh, ls.point, rays)) {
+                vec3 contribution = p.beta * f * absCos * Lemit * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
+                p.L += contribution;
+#ifdef PT_RECORD_PATHS
+                pv.flags |= VERTEX_HAS_LIGHT_SAMPLE;
+                pv.lightPosition = ls.point.position;
+                pv.lightTriangle = ls.point.triangle;
+                pv.lightB1 = ls.barycentrics.x;
+                pv.lightB2 = ls.barycentrics.y;
+                pv.explicitContribution = contribution;
+#endif
+            }
+        }
+    }
+
+    // Continue the path by sampling the BSDF.
+    float uLobe = samplerGet1D(smp);
+    vec2 uDir = samplerGet2D(smp);
+    BsdfSample bs;
+    vec3 wi;
+    bool scattered = !stop && shadingSample(sh, uLobe, uDir, bs, wi);
+#ifdef PT_RECORD_PATHS
+    if (scattered) {
+        pv.lobe = bs.lobe;
+        pv.pdfForward = bs.delta ? 0.0 : bs.pdf;
+        if (bs.delta) pv.flags |= VERTEX_SPECULAR;
+        if (bs.wi.z < 0.0) pv.flags |= VERTEX_TRANSMISSION;
+    }
+    pathVertices[p.firstVertex + p.vertexCount] = pv;
+    p.vertexCount += 1u;
+#endif
+    if (!scattered) return false;
+    p.beta *= bs.f * abs(bs.wi.z) / bs.pdf;
+    if (bs.wi.z < 0.0) p.etaScale *= sqr(sh.bsdf.eta);
+    p.prevDelta = bs.delta;
+    p.prevPdf = bs.pdf;
+    p.prevPosition = s.position;
+    p.origin = spawnOrigin(sh, wi);
+    p.dir = wi;
+
+    // Russian roulette on the throughput without the eta^2 factors (pbrt-v4).
+    float uRoulette = samplerGet1D(smp);
+    if (p.depth + 1u >= rrDepth) {
+        float rrBeta = maxComponent(p.beta * p.etaScale);
+        if (rrBeta < 1.0) {
+            float q = max(0.0, 1.0 - rrBeta);
+            if (uRoulette < q) return false;
+            p.beta /= 1.0 - q;
+        }
+    }
+    if (maxComponent(p.beta) <= 0.0) return false;
+    p.depth += 1u;
+    return true;
+}
+
 // Radiance arriving at the camera through raster position `raster`.
 vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inout uint rays,
                uint recordIndex) {
-    vec3 L = vec3(0.0);
-    vec3 beta = vec3(1.0);
-    float etaScale = 1.0;       // product of eta^2 over transmissions (pbrt-v4), for roulette
-    bool prevDelta = true;      // the camera "samples" x1 with a delta, so x1's emission counts fully
-    float prevPdf = 0.0;
-    vec3 prevPosition = sceneInfo.cameraPosition;
-    vec3 origin = sceneInfo.cameraPosition;
-    vec3 dir = cameraDirection(raster);
 #ifdef PT_RECORD_PATHS
-    uint firstVertex = recordIndex * PATH_MAX_VERTICES;
-    uint vertexCount = 0u;
     maxDepth = min(maxDepth, PATH_MAX_VERTICES - 1u);
 #endif
-
-    for (uint depth = 0u;; ++depth) {
-        Hit hit;
-        rays += 1u;
-        if (!traceClosest(origin, dir, FLOAT_MAX, hit)) break;
-        SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
-        vec3 wo = -dir;
-        ShadingPoint sh = makeShadingPoint(s, wo);
-#ifdef PT_RECORD_PATHS
-        PathVertex pv;
-        pv.position = s.position;
-        pv.triangle = s.triangle;
-        pv.normal = s.normal;
-        pv.flags = sh.front ? 0u : VERTEX_BACKFACE;
-        pv.shadingNormal = s.shadingNormal;
-        pv.material = s.material;
-        pv.barycentrics = vec2(hit.b1, hit.b2);
-        pv.pdfForward = 0.0;
-        pv.lobe = LOBE_NONE;
-        pv.lightPosition = vec3(0.0);
-        pv.lightTriangle = 0u;
-        pv.explicitContribution = vec3(0.0);
-        pv.lightB1 = 0.0;
-        pv.implicitContribution = vec3(0.0);
-        pv.lightB2 = 0.0;
-#endif
-
-        // Emission at the hit, MIS-weighted against light sampling unless reached by a delta.
-        vec3 Le = emittedRadiance(s, wo);
-        if (maxComponent(Le) > 0.0) {
-            float w = 1.0;
-            if (!prevDelta) {
-                float pdfLight = areaToSolidAngle(emitterAreaPdf(s.triangle), prevPosition,
-                                                  s.position, s.normal);
-                w = powerHeuristic(prevPdf, pdfLight);
-            }
-            vec3 contribution = beta * Le * w;
-            L += contribution;
-#ifdef PT_RECORD_PATHS
-            pv.flags |= VERTEX_EMITTER;
-            pv.implicitContribution = contribution;
-#endif
-        }
-        bool stop = depth == maxDepth;
-
-        // Next-event estimation: one light sample, MIS-weighted against BSDF sampling.
-        float uLight = samplerGet1D(smp);
-        vec2 uLightPoint = samplerGet2D(smp);
-        if (!stop && bsdfHasNonDelta(sh.bsdf)) {
-            LightSample ls = sampleLight(uLight, uLightPoint);
-            vec3 toLight = ls.point.position - s.position;
-            float dist2 = dot(toLight, toLight);
-            vec3 wi = toLight * inversesqrt(dist2);
-            vec3 Lemit = emittedRadiance(ls.point, -wi);
-            float pdfLight = areaToSolidAngle(ls.pdfArea, s.position, ls.point.position, ls.point.normal);
-            if (maxComponent(Lemit) > 0.0 && pdfLight > 0.0) {
-                float pdfBsdf, absCos;
-                vec3 f = shadingEval(sh, wi, pdfBsdf, absCos);
-                if (maxComponent(f) > 0.0 && visible(sh, ls.point, rays)) {
-                    vec3 contribution = beta * f * absCos * Lemit * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
-                    L += contribution;
-#ifdef PT_RECORD_PATHS
-                    pv.flags |= VERTEX_HAS_LIGHT_SAMPLE;
-                    pv.lightPosition = ls.point.position;
-                    pv.lightTriangle = ls.point.triangle;
-                    pv.lightB1 = ls.barycentrics.x;
-                    pv.lightB2 = ls.barycentrics.y;
-                    pv.explicitContribution = contribution;
-#endif
-                }
-            }
-        }
-
-        // Continue the path by sampling the BSDF.
-        float uLobe = samplerGet1D(smp);
-        vec2 uDir = samplerGet2D(smp);
-        BsdfSample bs;
-        vec3 wi;
-        bool scattered = !stop && shadingSample(sh, uLobe, uDir, bs, wi);
-#ifdef PT_RECORD_PATHS
-        if (scattered) {
-            pv.lobe = bs.lobe;
-            pv.pdfForward = bs.delta ? 0.0 : bs.pdf;
-            if (bs.delta) pv.flags |= VERTEX_SPECULAR;
-            if (bs.wi.z < 0.0) pv.flags |= VERTEX_TRANSMISSION;
-        }
-        pathVertices[firstVertex + vertexCount] = pv;
-        vertexCount += 1u;
-#endif
-        if (!scattered) break;
-        beta *= bs.f * abs(bs.wi.z) / bs.pdf;
-        if (bs.wi.z < 0.0) etaScale *= sqr(sh.bsdf.eta);
-        prevDelta = bs.delta;
-        prevPdf = bs.pdf;
-        prevPosition = s.position;
-        origin = spawnOrigin(sh, wi);
-        dir = wi;
-
-        // Russian roulette on the throughput without the eta^2 factors (pbrt-v4).
-        float uRoulette = samplerGet1D(smp);
-        if (depth + 1u >= rrDepth) {
-            float rrBeta = maxComponent(beta * etaScale);
-            if (rrBeta < 1.0) {
-                float q = max(0.0, 1.0 - rrBeta);
-                if (uRoulette < q) break;
-                beta /= 1.0 - q;
-            }
-        }
-        if (maxComponent(beta) <= 0.0) break;
+    PathState p = pathBegin(raster, recordIndex);
+    while (pathBounce(p, smp, maxDepth, rrDepth, rays)) {
     }
 #ifdef PT_RECORD_PATHS
     PathRecord record;
     record.raster = raster;
     record.pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
-    record.vertexCount = vertexCount;
-    record.radiance = L;
-    record.firstVertex = firstVertex;
+    record.vertexCount = p.vertexCount;
+    record.radiance = p.L;
+    record.firstVertex = p.firstVertex;
     pathRecords[recordIndex] = record;
 #endif
-    return L;
+    return p.L;
 }
 
 // Direct lighting only (MIS of light and BSDF sampling, Veach 1997 sec. 9.2.4): emission seen

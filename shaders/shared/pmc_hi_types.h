@@ -57,7 +57,7 @@ struct PmcHiPush {
     PtPush pt;
     PmcHiParams hi;
 };
-PMCR_CHECK_SIZE(PmcHiPush, 124);  // within the 128 bytes every device has
+PMCR_CHECK_SIZE(PmcHiPush, 128);  // the 128 bytes every device has
 
 // Input of the PMC-HI test kernel (shaders/tests/pmc_hi_test.comp): a mixture and the shading
 // point it samples at (triangle, barycentrics, wo), on the bound scene.

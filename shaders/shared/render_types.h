@@ -62,5 +62,8 @@ struct PtPush {
     uint recordOffset;     // PT_FLAG_RECORD_PATHS: index of this dispatch's first PathRecord
     uint requestOffset;    // PT_SOURCE_LIST / _POINTS: index of this dispatch's first request
                            // (and result), so one batch can walk a request list in slices
+    uint pixelsPerInvocation;  // PT_SOURCE_TILE in pt.comp: P > 1 makes invocationCount the
+                               // tile's pixel count, dispatched as ceil(count / P) invocations
+                               // that each take P of its pixels in turn (0 or 1: one each)
 };
-PMCR_CHECK_SIZE(PtPush, 48);
+PMCR_CHECK_SIZE(PtPush, 52);
