@@ -350,30 +350,26 @@ Bvh Bvh::build(std::span<const gpu::Vertex> vertices, std::span<const gpu::Trian
 }
 
 std::vector<glm::uvec4> Bvh::deviceTexels() const {
-    // Node i > 0 goes to device node i + 1 (device node 1 is padding), so that every child pair
-    // (nodes 2k + 1, 2k + 2) starts on a 64-byte boundary: one interior step reads one cache line.
-    const auto deviceNode = [](size_t i) { return i == 0 ? size_t{0} : i + 1; };
-    const size_t triangleBase = gpu::bvhTriangleBase(uint32_t(m_nodes.size()));
-    const size_t texelCount = triangleBase + gpu::BVH_TRIANGLE_TEXELS * m_triangles.size();
+    const size_t triangleBase = 2 * m_nodes.size();
+    const size_t texelCount = triangleBase + 3 * m_triangles.size();
     if (texelCount > gpu::BVH_MAX_TEXELS) {
         throw Error("BVH of " + std::to_string(m_triangles.size()) + " triangles needs " +
                     std::to_string(texelCount) + " texels, more than the kernels address (" +
                     std::to_string(gpu::BVH_MAX_TEXELS) + ")");
     }
-    std::vector<glm::uvec4> texels(texelCount, glm::uvec4(0u));
+    std::vector<glm::uvec4> texels(texelCount);
     for (size_t i = 0; i < m_nodes.size(); ++i) {
         const gpu::BvhNode& n = m_nodes[i];
-        const size_t ref = n.count > 0 ? triangleBase + gpu::BVH_TRIANGLE_TEXELS * size_t{n.leftOrFirst}
-                                       : 2 * deviceNode(n.leftOrFirst);
-        texels[2 * deviceNode(i)] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMin), uint32_t(ref));
-        texels[2 * deviceNode(i) + 1] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMax), n.count);
+        const size_t ref =
+            n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst} : 2 * size_t{n.leftOrFirst};
+        texels[2 * i] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMin), uint32_t(ref));
+        texels[2 * i + 1] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMax), n.count);
     }
     for (size_t i = 0; i < m_triangles.size(); ++i) {
         const gpu::IsectTriangle& t = m_triangles[i];
-        const size_t base = triangleBase + gpu::BVH_TRIANGLE_TEXELS * i;
-        texels[base] = std::bit_cast<glm::uvec4>(t.v0);
-        texels[base + 1] = std::bit_cast<glm::uvec4>(t.e1);
-        texels[base + 2] = std::bit_cast<glm::uvec4>(t.e2);
+        texels[triangleBase + 3 * i] = std::bit_cast<glm::uvec4>(t.v0);
+        texels[triangleBase + 3 * i + 1] = std::bit_cast<glm::uvec4>(t.e1);
+        texels[triangleBase + 3 * i + 2] = std::bit_cast<glm::uvec4>(t.e2);
     }
     return texels;
 }

@@ -7,8 +7,7 @@
 // The BVH is one uniform texel buffer of uvec4 (Bvh::deviceTexels, layout in
 // shared/scene_types.h): node i is texels 2i (boundsMin, ref) and 2i + 1 (boundsMax, count),
 // where ref is the texel address of the first child's record (interior, count == 0) or of the
-// first triangle (leaf); a triangle is four texels (v0 + original index, e1, e2, padding), and
-// each child pair and each triangle is one 64-byte cache line.
+// first triangle (leaf); a triangle is three texels (v0 + original index, e1, e2).
 //
 // Written for SIMD-on-CPU implementations (lavapipe runs 8 invocations as the lanes of one
 // vector, both sides of a divergent branch under masks), where memory reads dominate: a texel
@@ -111,12 +110,12 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
     for (uint step = 0u; step < texelCount; ++step) {
         uint count = ref & 7u;
         uint address = ref >> 3;
-        // The same four fetches of one cache line in every lane: two child records, or a
-        // triangle and its padding texel.
+        // The same four fetches in every lane: two child records, or a triangle (the fourth
+        // fetch repeats its first texel, so it never reads past the last triangle).
         uvec4 w0 = bvhTexel(address);
         uvec4 w1 = bvhTexel(address + 1u);
         uvec4 w2 = bvhTexel(address + 2u);
-        uvec4 w3 = bvhTexel(address + 3u);
+        uvec4 w3 = bvhTexel(count > 0u ? address : address + 3u);
         if (count > 0u) {
             if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1.xyz),
                                      uintBitsToFloat(w2.xyz), origin, dir, hit)) {
@@ -126,7 +125,7 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
                 found = true;
             }
             if (count > 1u) {
-                ref = ((address + BVH_TRIANGLE_TEXELS) << 3) | (count - 1u);
+                ref = ((address + 3u) << 3) | (count - 1u);
                 continue;
             }
         } else {

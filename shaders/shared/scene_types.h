@@ -45,23 +45,14 @@ struct BvhNode {
 };
 PMCR_CHECK_SIZE(BvhNode, 32);
 
-// The kernels read the BVH as one texel buffer of uvec4 (Bvh::deviceTexels, BINDING_BVH), laid
-// out so that each traversal step reads one 64-byte cache line (four texels):
-//   node i:     device node d = 0 for the root, i + 1 otherwise (device node 1 is padding, so
-//               each child pair starts at a texel address divisible by 4);
-//               texel 2d = (boundsMin bits, ref), texel 2d + 1 = (boundsMax bits, count),
-//               ref = texel address of child leftOrFirst's record when count == 0, else of
-//               triangle leftOrFirst;
-//   triangle j: texels bvhTriangleBase(nodeCount) + 4j + {0, 1, 2} = IsectTriangle j's v0, e1,
-//               e2; the fourth texel is padding.
+// The kernels read the BVH as one texel buffer of uvec4 (Bvh::deviceTexels, BINDING_BVH):
+//   node i:     texel 2i     = (boundsMin bits, ref), texel 2i + 1 = (boundsMax bits, count),
+//               ref = texel address of child leftOrFirst's record (2 * leftOrFirst) when
+//               count == 0, else of triangle leftOrFirst;
+//   triangle j: texels 2 * nodeCount + 3j + {0, 1, 2} = IsectTriangle j's v0, e1, e2.
 // A texel fetch is a vector gather on lavapipe, where SSBO loads with per-lane addresses loop
 // over the lanes (shaders/common/bvh.glsl). Addresses stay below BVH_MAX_TEXELS so that the
 // traversal can pack address * 8 + count into one uint.
-PMCR_CONST uint BVH_TRIANGLE_TEXELS = 4;
-#ifdef __cplusplus
-// First triangle texel: after the nodes and the padding node, rounded up to a cache line.
-inline uint bvhTriangleBase(uint nodeCount) { return (2u * (nodeCount + 1u) + 3u) & ~3u; }
-#endif
 PMCR_CONST uint BVH_MAX_TEXELS = 1u << 29;
 
 // Build limits. Leaves hold at most BVH_MAX_LEAF_TRIANGLES; the root has depth 0 and every

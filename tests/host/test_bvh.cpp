@@ -326,31 +326,26 @@ TEST(Bvh, SphereMatchesBruteForce) {
 
 // deviceTexels: the kernels' serialization of the same nodes and triangles
 // (shared/scene_types.h): node records with texel addresses in place of node and triangle
-// indices (a padding node after the root), then the triangles, four texels each, bit for bit;
-// every child pair and every triangle starts a 64-byte cache line.
+// indices, then the triangles, three texels each, bit for bit.
 TEST(Bvh, DeviceTexelsSerializeNodesAndTriangles) {
     const Mesh mesh = randomSoup(300, 5);
     const Bvh bvh = Bvh::build(mesh.vertices, mesh.triangles, "test");
     const std::vector<glm::uvec4> texels = bvh.deviceTexels();
     const size_t nodeCount = bvh.nodes().size();
-    const size_t triangleBase = gpu::bvhTriangleBase(uint32_t(nodeCount));
-    EXPECT_EQ(triangleBase % 4, 0u);
-    EXPECT_GE(triangleBase, 2 * (nodeCount + 1));
-    ASSERT_EQ(texels.size(), triangleBase + 4 * bvh.triangles().size());
+    const size_t triangleBase = 2 * nodeCount;
+    ASSERT_EQ(texels.size(), triangleBase + 3 * bvh.triangles().size());
     for (size_t i = 0; i < nodeCount; ++i) {
         const gpu::BvhNode& n = bvh.nodes()[i];
-        const size_t d = i == 0 ? 0 : i + 1;
-        EXPECT_EQ(glm::uvec3(texels[2 * d]), std::bit_cast<glm::uvec3>(n.boundsMin));
-        EXPECT_EQ(glm::uvec3(texels[2 * d + 1]), std::bit_cast<glm::uvec3>(n.boundsMax));
-        EXPECT_EQ(texels[2 * d + 1].w, n.count);
-        const size_t ref = n.count > 0 ? triangleBase + 4 * size_t{n.leftOrFirst}
-                                       : 2 * (size_t{n.leftOrFirst} + 1);
-        EXPECT_EQ(texels[2 * d].w, ref) << "node " << i;
-        EXPECT_EQ(ref % 4, 0u) << "node " << i << ": its children or triangles straddle cache lines";
+        EXPECT_EQ(glm::uvec3(texels[2 * i]), std::bit_cast<glm::uvec3>(n.boundsMin));
+        EXPECT_EQ(glm::uvec3(texels[2 * i + 1]), std::bit_cast<glm::uvec3>(n.boundsMax));
+        EXPECT_EQ(texels[2 * i + 1].w, n.count);
+        const size_t ref = n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst}
+                                       : 2 * size_t{n.leftOrFirst};
+        EXPECT_EQ(texels[2 * i].w, ref) << "node " << i;
     }
     for (size_t i = 0; i < bvh.triangles().size(); ++i) {
         const gpu::IsectTriangle& t = bvh.triangles()[i];
-        EXPECT_EQ(std::memcmp(&texels[triangleBase + 4 * i], &t, sizeof(t)), 0) << "triangle " << i;
+        EXPECT_EQ(std::memcmp(&texels[triangleBase + 3 * i], &t, sizeof(t)), 0) << "triangle " << i;
     }
 }
 
