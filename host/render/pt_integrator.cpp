@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include "core/error.h"
 #include "render/pmc_hi.h"
@@ -22,8 +23,14 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
     if (mode == Mode::PmcHi) m_hi = parsePmcHiOptions(settings);
 }
 
-uint32_t tilePixelsPerInvocation(const vk::Context& context) {
-    return context.isCpuDevice() ? 8 : 1;
+uint32_t tilePixelsPerInvocation(const vk::Context& context, uint32_t pixels) {
+    if (!context.isCpuDevice()) return 1;
+    // Up to 32 pixels each (measured on lavapipe, cornell-spheres: 8 pixels 1.27x the samples/s
+    // of 1, 32 pixels another 1.08x), while every CPU thread still gets 8 workgroups of a
+    // dispatch (lavapipe runs one thread per core).
+    const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
+    const uint32_t perThread = 8 * gpu::WORKGROUP_SIZE * threads;
+    return std::clamp<uint32_t>(pixels / perThread, 1, 32);
 }
 
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session) {
@@ -81,11 +88,6 @@ RenderOutput PathTracer::render(RenderSession& session) {
     push.maxDepth = m_mode == Mode::Full ? settings.maxDepth : 1;
     push.rrDepth = settings.rrDepth;
     push.lightSamples = m_lightSamples;
-    // pt.comp's paths in turn (camera_sample_kernel.glsl): on a CPU device (lavapipe's 8-lane
-    // SIMD) each invocation takes several pixels so that its lanes stay busy; on a GPU one
-    // pixel per invocation keeps every core fed. The image is the same bit for bit either way.
-    const uint32_t pixelsPerInvocation = m_mode == Mode::Full ? tilePixelsPerInvocation(session.context()) : 1;
-    push.pixelsPerInvocation = pixelsPerInvocation;
 
     vk::CommandBatch batch(session.layout(), &session.timer());
     uint32_t pass = 0;
@@ -122,7 +124,13 @@ RenderOutput PathTracer::render(RenderSession& session) {
                 hiPush.pt = push;
                 batch.dispatch(kernel, hiPush, count);
             } else {
-                batch.dispatch(kernel, push, (count + pixelsPerInvocation - 1) / pixelsPerInvocation);
+                // pt.comp's paths in turn (camera_sample_kernel.glsl): on a CPU device each
+                // invocation takes several pixels so that its SIMD lanes stay busy. The image
+                // is the same bit for bit whatever the count.
+                const uint32_t perInvocation =
+                    m_mode == Mode::Full ? tilePixelsPerInvocation(session.context(), count) : 1;
+                push.pixelsPerInvocation = perInvocation;
+                batch.dispatch(kernel, push, (count + perInvocation - 1) / perInvocation);
             }
             batchSamples += uint64_t(count) * passes;
             offset += count;

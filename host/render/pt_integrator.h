@@ -16,10 +16,11 @@ namespace pmcr {
 // `film`; their request and result lists, unused there, at the session's placeholder.
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session);
 
-// Pixels per invocation of pt.comp's tile dispatches on `context`'s device (PtPush::
-// pixelsPerInvocation): 8 on a CPU device, whose SIMD lanes would otherwise idle while the
-// longest path of their vector ends; 1 on a GPU.
-uint32_t tilePixelsPerInvocation(const vk::Context& context);
+// Pixels per invocation of a pt.comp tile dispatch of `pixels` pixels on
+// `context`'s device (PtPush::pixelsPerInvocation): on a CPU device, whose SIMD lanes would
+// otherwise idle while the longest path of their vector ends, up to 32 while each CPU thread
+// still gets several workgroups; 1 on a GPU.
+uint32_t tilePixelsPerInvocation(const vk::Context& context, uint32_t pixels);
 
 class PathTracer : public Integrator {
 public:
