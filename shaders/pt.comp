@@ -10,9 +10,6 @@ layout(push_constant, scalar) uniform PushBlock { PtPush push; };
 #include "common/film.glsl"
 #include "common/path_tracer.glsl"
 
-vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint rays, uint recordIndex) {
-    return pathTrace(raster, s, push.maxDepth, push.rrDepth, rays, recordIndex);
-}
-
+// Paths in turn from pathBegin / pathBounce (camera_sample_kernel.glsl), every source.
 #define CAMERA_SAMPLE_PATH_STATES
 #include "common/camera_sample_kernel.glsl"

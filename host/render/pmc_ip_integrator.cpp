@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "render/pt_integrator.h"
 #include "render/pixel_order.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
@@ -184,7 +185,11 @@ RenderOutput PmcIp::render(RenderSession& session) {
                     hiPush.pt = push;
                     batch.dispatch(kernel, hiPush, push.invocationCount);
                 } else {
-                    batch.dispatch(kernel, push, push.invocationCount);
+                    // pt.comp takes several requests per invocation in turn on a CPU device.
+                    const uint32_t perInvocation =
+                        m_estimator == Estimator::Full ? ptItemsPerInvocation(context, push.invocationCount) : 1;
+                    push.itemsPerInvocation = perInvocation;
+                    batch.dispatch(kernel, push, (push.invocationCount + perInvocation - 1) / perInvocation);
                 }
             }
             const uint32_t dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "image/image.h"
 #include "render/pixel_order.h"
+#include "render/pt_integrator.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -169,7 +170,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
                 slots[d].requests.upload(&requests[done], count * sizeof(gpu::SampleRequest));
                 batch.bind(*slots[d].set);
                 push.invocationCount = count;
-                batch.dispatch(kernel, push, count);
+                // pt.comp takes several requests per invocation in turn on a CPU device.
+                push.itemsPerInvocation = ptItemsPerInvocation(session.context(), count);
+                batch.dispatch(kernel, push, (count + push.itemsPerInvocation - 1) / push.itemsPerInvocation);
                 pending.push_back({done, count});
                 done += count;
                 batchSamples += count;

@@ -23,14 +23,14 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
     if (mode == Mode::PmcHi) m_hi = parsePmcHiOptions(settings);
 }
 
-uint32_t tilePixelsPerInvocation(const vk::Context& context, uint32_t pixels) {
+uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items) {
     if (!context.isCpuDevice()) return 1;
-    // Up to 32 pixels each (measured on lavapipe, cornell-spheres: 8 pixels 1.27x the samples/s
-    // of 1, 32 pixels another 1.08x), while every CPU thread still gets 8 workgroups of a
+    // Up to 32 items each (measured on lavapipe, pt on cornell-spheres: 8 pixels 1.27x the
+    // samples/s of 1, 32 another 1.08x), while every CPU thread still gets 8 workgroups of a
     // dispatch (lavapipe runs one thread per core).
     const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
     const uint32_t perThread = 8 * gpu::WORKGROUP_SIZE * threads;
-    return std::clamp<uint32_t>(pixels / perThread, 1, 32);
+    return std::clamp<uint32_t>(items / perThread, 1, 32);
 }
 
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session) {
@@ -128,8 +128,8 @@ RenderOutput PathTracer::render(RenderSession& session) {
                 // invocation takes several pixels so that its SIMD lanes stay busy. The image
                 // is the same bit for bit whatever the count.
                 const uint32_t perInvocation =
-                    m_mode == Mode::Full ? tilePixelsPerInvocation(session.context(), count) : 1;
-                push.pixelsPerInvocation = perInvocation;
+                    m_mode == Mode::Full ? ptItemsPerInvocation(session.context(), count) : 1;
+                push.itemsPerInvocation = perInvocation;
                 batch.dispatch(kernel, push, (count + perInvocation - 1) / perInvocation);
             }
             batchSamples += uint64_t(count) * passes;

@@ -16,11 +16,11 @@ namespace pmcr {
 // `film`; their request and result lists, unused there, at the session's placeholder.
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session);
 
-// Pixels per invocation of a pt.comp tile dispatch of `pixels` pixels on
-// `context`'s device (PtPush::pixelsPerInvocation): on a CPU device, whose SIMD lanes would
-// otherwise idle while the longest path of their vector ends, up to 32 while each CPU thread
-// still gets several workgroups; 1 on a GPU.
-uint32_t tilePixelsPerInvocation(const vk::Context& context, uint32_t pixels);
+// Items (tile pixels or requests) per invocation of a pt.comp dispatch of `items` items on
+// `context`'s device (PtPush::itemsPerInvocation, paths in turn): on a CPU device, whose SIMD
+// lanes would otherwise idle while the longest path of their vector ends, up to 32 while each
+// CPU thread still gets several workgroups; 1 on a GPU. Only pt.comp reads it.
+uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items);
 
 class PathTracer : public Integrator {
 public:

@@ -2,9 +2,9 @@
 // invocation's camera samples come from (a tile of pixels, a list of requested pixel samples,
 // or given raster positions), and where their estimates go (film, results buffer).
 // The including .comp defines `vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint
-// rays, uint recordIndex)` before including this file, and CAMERA_SAMPLE_PATH_STATES when
-// estimateRadiance is pathTrace without path records (pathBegin / pathBounce are then used
-// directly for the tile source).
+// rays, uint recordIndex)` before including this file, or defines CAMERA_SAMPLE_PATH_STATES
+// when it path-traces without path records: pathBegin / pathBounce are then used directly, for
+// paths in turn.
 #ifndef PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 #define PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 
@@ -19,26 +19,58 @@ vec2 pixelCorner(uint pixel) {
     return vec2(float(pixel % sceneInfo.width), float(pixel / sceneInfo.width));
 }
 
+// The camera sample a request asks for: its sampler, raster position and pixel.
+void requestedSample(SampleRequest r, out Sampler s, out vec2 raster, out uint pixel) {
+    s = samplerCreate(r.pixel, r.sampleIndex, push.seed);
+    raster = r.raster;
+    pixel = r.pixel;
+    if (push.source == PT_SOURCE_LIST) {
+        raster = pixelCorner(r.pixel) + samplerGet2D(s);
+    } else {
+        raster = clamp(raster, vec2(0.0), vec2(sceneInfo.width, sceneInfo.height) * ONE_MINUS_EPSILON);
+        pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
+    }
+}
+
 #ifdef CAMERA_SAMPLE_PATH_STATES
-// The tile source with paths in turn (pt.comp, which defines CAMERA_SAMPLE_PATH_STATES): the
-// tile's invocationCount pixels go to N = ceil(count / P) invocations, invocation i taking
-// pixels i, i + N, i + 2N, ... (so neighbouring lanes trace neighbouring pixels), each with all
-// its samples in order. A lane starts its next path as soon as one ends, so the loop runs until
-// the lane with the most bounces in all has finished, not P times the longest single path: on
-// SIMD lanes (lavapipe runs 8 invocations as one vector) fewer lanes idle. Each pixel still has
-// one writer per dispatch and gets its samples in the same order, so the film is the same bit
-// for bit whatever P is.
-void tileWithPathsInTurn(uint i, inout uint rays, inout uint dropped, inout uint paths) {
-    uint P = max(push.pixelsPerInvocation, 1u);
+// Paths in turn (pt.comp, which defines CAMERA_SAMPLE_PATH_STATES): with itemsPerInvocation
+// P > 1 the dispatch's invocationCount items (the tile's pixels, or requests) go to
+// N = ceil(count / P) invocations, invocation i taking items i, i + N, i + 2N, ... (so
+// neighbouring lanes trace neighbouring pixels), a tile pixel with all its samples in order. A
+// lane starts its next path as soon as one ends, so the loop runs until the lane with the most
+// bounces in all has finished, not P times the longest single path: on SIMD lanes (lavapipe
+// runs 8 invocations as one vector) fewer lanes idle. Each pixel still has one writer per
+// dispatch in tile mode and gets its samples in the same order, and each request writes its
+// own result, so film and results are the same bit for bit whatever P is.
+
+// Starts path `item` of invocation i of N: its pixel, result slot (lists), sampler and path.
+void pathsInTurnStart(uint i, uint N, uint item, out uint pixel, out uint slot, out Sampler s,
+                      out PathState p) {
+    vec2 raster;
+    slot = 0u;
+    if (push.source == PT_SOURCE_TILE) {
+        pixel = push.pixelOffset + i + (item / push.samplesPerPixel) * N;
+        s = samplerCreate(pixel, push.sampleBase + item % push.samplesPerPixel, push.seed);
+        raster = pixelCorner(pixel) + samplerGet2D(s);
+    } else {
+        slot = push.requestOffset + i + item * N;
+        requestedSample(requests[slot], s, raster, pixel);
+    }
+    p = pathBegin(raster, 0u);
+}
+
+void pathsInTurn(uint i, inout uint rays, inout uint dropped, inout uint paths) {
+    uint P = max(push.itemsPerInvocation, 1u);
     uint N = (push.invocationCount + P - 1u) / P;
     if (i >= N) return;
-    uint spp = push.samplesPerPixel;
-    uint total = ((push.invocationCount - i + N - 1u) / N) * spp;  // this invocation's paths
+    uint total = (push.invocationCount - i + N - 1u) / N;  // this invocation's items
+    if (push.source == PT_SOURCE_TILE) total *= push.samplesPerPixel;
     if (total == 0u) return;
     uint item = 0u;
-    uint pixel = push.pixelOffset + i;
-    Sampler s = samplerCreate(pixel, push.sampleBase, push.seed);
-    PathState p = pathBegin(pixelCorner(pixel) + samplerGet2D(s), 0u);
+    uint pixel, slot;
+    Sampler s;
+    PathState p;
+    pathsInTurnStart(i, N, item, pixel, slot, s, p);
     // Each path takes at most maxDepth + 1 bounces.
     uint bounces = total * (push.maxDepth + 1u);
     for (uint b = 0u; b < bounces; ++b) {
@@ -47,13 +79,13 @@ void tileWithPathsInTurn(uint i, inout uint rays, inout uint dropped, inout uint
         accumulatorAdd(acc, p.L);
         if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
             filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
+        if (push.source != PT_SOURCE_TILE && (push.flags & PT_FLAG_WRITE_RESULTS) != 0u)
+            results[slot] = vec4(acc.sum, acc.lumSum);
         dropped += acc.dropped;
         paths += acc.count;
         item += 1u;
         if (item == total) break;
-        pixel = push.pixelOffset + i + (item / spp) * N;
-        s = samplerCreate(pixel, push.sampleBase + item % spp, push.seed);
-        p = pathBegin(pixelCorner(pixel) + samplerGet2D(s), 0u);
+        pathsInTurnStart(i, N, item, pixel, slot, s, p);
     }
 }
 #endif
@@ -64,10 +96,8 @@ void main() {
     uint dropped = 0u;
     uint paths = 0u;
 #ifdef CAMERA_SAMPLE_PATH_STATES
-    if (push.source == PT_SOURCE_TILE) {
-        tileWithPathsInTurn(i, rays, dropped, paths);
-    } else
-#endif
+    pathsInTurn(i, rays, dropped, paths);
+#else
     if (i < push.invocationCount) {
         if (push.source == PT_SOURCE_TILE) {
             // One invocation per pixel, all its samples: each pixel has one writer per dispatch,
@@ -87,17 +117,10 @@ void main() {
                 paths += acc.count;
             }
         } else {
-            SampleRequest r = requests[push.requestOffset + i];
-            Sampler s = samplerCreate(r.pixel, r.sampleIndex, push.seed);
-            vec2 raster = r.raster;
-            uint pixel = r.pixel;
-            if (push.source == PT_SOURCE_LIST) {
-                raster = pixelCorner(r.pixel) + samplerGet2D(s);
-            } else {
-                raster = clamp(raster, vec2(0.0),
-                               vec2(sceneInfo.width, sceneInfo.height) * ONE_MINUS_EPSILON);
-                pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
-            }
+            Sampler s;
+            vec2 raster;
+            uint pixel;
+            requestedSample(requests[push.requestOffset + i], s, raster, pixel);
             PixelAccumulator acc = accumulatorCreate();
             accumulatorAdd(acc, estimateRadiance(raster, s, rays, push.recordOffset + i));
             if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
@@ -107,6 +130,7 @@ void main() {
             paths = 1u;
         }
     }
+#endif
     counterAdd(COUNTER_RAYS, rays);
     counterAdd(COUNTER_NAN_DROPPED, dropped);
     counterAdd(COUNTER_PATHS, paths);

@@ -62,8 +62,9 @@ struct PtPush {
     uint recordOffset;     // PT_FLAG_RECORD_PATHS: index of this dispatch's first PathRecord
     uint requestOffset;    // PT_SOURCE_LIST / _POINTS: index of this dispatch's first request
                            // (and result), so one batch can walk a request list in slices
-    uint pixelsPerInvocation;  // PT_SOURCE_TILE in pt.comp: P > 1 makes invocationCount the
-                               // tile's pixel count, dispatched as ceil(count / P) invocations
-                               // that each take P of its pixels in turn (0 or 1: one each)
+    uint itemsPerInvocation;  // pt.comp (paths in turn, camera_sample_kernel.glsl): P > 1
+                              // dispatches the invocationCount items (tile pixels or
+                              // requests) as ceil(count / P) invocations that each take up
+                              // to P of them in turn (0 or 1: one each)
 };
 PMCR_CHECK_SIZE(PtPush, 52);

@@ -70,7 +70,7 @@ TEST_P(PtDispatch, SeveralPassesInOneDispatchGiveTheSameFilm) {
 
 INSTANTIATE_TEST_SUITE_P(Kernels, PtDispatch, ::testing::Values("pt", "direct"));
 
-// pt.comp's paths in turn (PtPush::pixelsPerInvocation, camera_sample_kernel.glsl): however many
+// pt.comp's paths in turn (PtPush::itemsPerInvocation, camera_sample_kernel.glsl): however many
 // pixels each invocation takes, in whatever dispatch split, every pixel gets the same samples
 // in the same order from one writer, so the film is the same bit for bit; a tile whose pixel
 // count is not a multiple of P, and a tile that does not start at pixel 0, included.
@@ -101,7 +101,7 @@ TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
         vk::CommandBatch batch(session.layout());
         batch.bind(session.scene().descriptorSet());
         batch.bind(work);
-        push.pixelsPerInvocation = P;
+        push.itemsPerInvocation = P;
         for (auto [offset, count] : {std::pair<uint32_t, uint32_t>{0, 100}, {100, pixels - 100}}) {
             push.pixelOffset = offset;
             push.invocationCount = count;
@@ -119,6 +119,65 @@ TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
             ASSERT_EQ(reference[i].lumSum, other[i].lumSum) << "pixel " << i << ", P = " << P;
             ASSERT_EQ(reference[i].lumSqSum, other[i].lumSqSum) << "pixel " << i << ", P = " << P;
             ASSERT_EQ(reference[i].sampleCount, other[i].sampleCount) << "pixel " << i << ", P = " << P;
+        }
+    }
+}
+
+// The same for request lists (PMC-IP and PMC-PT): every request writes its own result, the same
+// bit for bit whatever the number of requests per invocation, for pixel-sequence requests and
+// for given raster positions.
+TEST_F(GpuTest, PtRequestsPerInvocationLeaveTheResultsUnchanged) {
+    const Scene& scene = testScene("scenes/cornell-spheres.glb");
+    RenderSettings settings;
+    settings.width = 16;
+    settings.height = 16;
+    RenderSession session(context(), scene, settings, 16, 16);
+    vk::Kernel kernel(session.layout(), "pt");
+    std::vector<gpu::SampleRequest> requests(301);
+    for (uint32_t i = 0; i < requests.size(); ++i) {
+        const uint32_t pixel = (i * 37u) % 256u;
+        requests[i] = {pixel, i / 7u, glm::vec2(float(pixel % 16) + 0.3f, float(pixel / 16) + 0.6f)};
+    }
+    auto requestBuffer = vk::Buffer::storage(context(), requests, "requests");
+    vk::Buffer results(context(), requests.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "results", vk::MemoryUsage::Readback);
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "requests in turn test work");
+    work.bind(gpu::PT_BINDING_FILM, session.film().pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, session.film().counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
+    work.bind(gpu::PT_BINDING_RESULTS, results);
+
+    gpu::PtPush push{};
+    push.flags = gpu::PT_FLAG_WRITE_RESULTS;
+    push.seed = 5;
+    push.maxDepth = 8;
+    push.rrDepth = 3;
+    // The list in two dispatches (requests [0, 120) and [120, 301)), P requests per invocation.
+    auto render = [&](uint32_t source, uint32_t P) {
+        results.fill(0);
+        vk::CommandBatch batch(session.layout());
+        batch.bind(session.scene().descriptorSet());
+        batch.bind(work);
+        push.source = source;
+        push.itemsPerInvocation = P;
+        for (auto [offset, count] : {std::pair<uint32_t, uint32_t>{0, 120}, {120, 181}}) {
+            push.requestOffset = offset;
+            push.invocationCount = count;
+            batch.dispatch(kernel, push, (count + std::max(P, 1u) - 1) / std::max(P, 1u));
+        }
+        batch.submitAndWait();
+        return results.download<glm::vec4>(requests.size());
+    };
+    for (uint32_t source : {gpu::PT_SOURCE_LIST, gpu::PT_SOURCE_POINTS}) {
+        SCOPED_TRACE(source);
+        const auto reference = render(source, 1);
+        double total = 0.0;
+        for (const glm::vec4& r : reference) total += r.w;
+        EXPECT_GT(total, 0.0);  // not black
+        for (uint32_t P : {3u, 8u, 64u}) {
+            const auto other = render(source, P);
+            for (size_t i = 0; i < requests.size(); ++i)
+                ASSERT_EQ(reference[i], other[i]) << "request " << i << ", P = " << P;
         }
     }
 }
