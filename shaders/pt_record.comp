@@ -10,8 +10,6 @@ layout(push_constant, scalar) uniform PushBlock { PtPush push; };
 #include "common/film.glsl"
 #include "common/path_tracer.glsl"
 
-vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint rays, uint recordIndex) {
-    return pathTrace(raster, s, push.maxDepth, push.rrDepth, rays, recordIndex);
-}
-
+// Paths in turn from pathBegin / pathBounce / pathEnd (camera_sample_kernel.glsl).
+#define CAMERA_SAMPLE_PATH_STATES
 #include "common/camera_sample_kernel.glsl"

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "render/energy_estimate.h"
 #include "render/path_records.h"
+#include "render/pt_integrator.h"
 #include "render/redistribution.h"
 #include "render/splat_film.h"
 #include "vk/command_batch.h"
@@ -176,7 +177,9 @@ RenderOutput Erpt::render(RenderSession& session) {
                 ptPush.invocationCount = n;
                 ptPush.sampleBase = pass;
                 ptPush.recordOffset = 0;
-                batch.dispatch(recordKernel, ptPush, n);
+                // pt_record.comp takes several paths per invocation in turn on a CPU device.
+                ptPush.itemsPerInvocation = ptItemsPerInvocation(session.context(), n);
+                batch.dispatch(recordKernel, ptPush, (n + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
                 batch.bind(work);
                 push.recordCount = n;
                 batch.dispatch(countKernel, push, n);

@@ -11,6 +11,7 @@
 #include "render/erpt_integrator.h"
 #include "render/path_population.h"
 #include "render/path_records.h"
+#include "render/pt_integrator.h"
 #include "render/redistribution.h"
 #include "render/pixel_population.h"
 #include "render/splat_film.h"
@@ -273,7 +274,9 @@ RenderOutput PmcEr::render(RenderSession& session) {
             ptPush.invocationCount = n;
             ptPush.requestOffset = 0;
             ptPush.recordOffset = 0;
-            batch.dispatch(recordKernel, ptPush, n);
+            // pt_record.comp takes several paths per invocation in turn on a CPU device.
+            ptPush.itemsPerInvocation = ptItemsPerInvocation(session.context(), n);
+            batch.dispatch(recordKernel, ptPush, (n + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
             batch.bind(work);
             push.memberCount = n;
             push.pass = pass;

@@ -19,7 +19,7 @@ void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession
 // Items (tile pixels or requests) per invocation of a pt.comp dispatch of `items` items on
 // `context`'s device (PtPush::itemsPerInvocation, paths in turn): on a CPU device, whose SIMD
 // lanes would otherwise idle while the longest path of their vector ends, up to 32 while each
-// CPU thread still gets several workgroups; 1 on a GPU. Only pt.comp reads it.
+// CPU thread still gets several workgroups; 1 on a GPU. pt.comp and pt_record.comp read it.
 uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items);
 
 class PathTracer : public Integrator {

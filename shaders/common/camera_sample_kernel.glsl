@@ -3,8 +3,8 @@
 // or given raster positions), and where their estimates go (film, results buffer).
 // The including .comp defines `vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint
 // rays, uint recordIndex)` before including this file, or defines CAMERA_SAMPLE_PATH_STATES
-// when it path-traces without path records: pathBegin / pathBounce are then used directly, for
-// paths in turn.
+// when it path-traces: pathBegin / pathBounce / pathEnd are then used directly, for paths in
+// turn.
 #ifndef PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 #define PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 
@@ -33,8 +33,8 @@ void requestedSample(SampleRequest r, out Sampler s, out vec2 raster, out uint p
 }
 
 #ifdef CAMERA_SAMPLE_PATH_STATES
-// Paths in turn (pt.comp, which defines CAMERA_SAMPLE_PATH_STATES): with itemsPerInvocation
-// P > 1 the dispatch's invocationCount items (the tile's pixels, or requests) go to
+// Paths in turn (pt.comp and pt_record.comp, which define CAMERA_SAMPLE_PATH_STATES): with
+// itemsPerInvocation P > 1 the dispatch's invocationCount items (the tile's pixels, or requests) go to
 // N = ceil(count / P) invocations, invocation i taking items i, i + N, i + 2N, ... (so
 // neighbouring lanes trace neighbouring pixels), a tile pixel with all its samples in order. A
 // lane starts its next path as soon as one ends, so the loop runs until the lane with the most
@@ -43,20 +43,26 @@ void requestedSample(SampleRequest r, out Sampler s, out vec2 raster, out uint p
 // dispatch in tile mode and gets its samples in the same order, and each request writes its
 // own result, so film and results are the same bit for bit whatever P is.
 
-// Starts path `item` of invocation i of N: its pixel, result slot (lists), sampler and path.
-void pathsInTurnStart(uint i, uint N, uint item, out uint pixel, out uint slot, out Sampler s,
-                      out PathState p) {
-    vec2 raster;
+// Starts path `item` of invocation i of N: its pixel, result slot (lists), raster position,
+// record index (PT_RECORD_PATHS: as the one-path-per-invocation body numbers them), sampler
+// and path.
+void pathsInTurnStart(uint i, uint N, uint item, out uint pixel, out uint slot, out vec2 raster,
+                      out uint record, out Sampler s, out PathState p) {
     slot = 0u;
     if (push.source == PT_SOURCE_TILE) {
-        pixel = push.pixelOffset + i + (item / push.samplesPerPixel) * N;
-        s = samplerCreate(pixel, push.sampleBase + item % push.samplesPerPixel, push.seed);
+        uint k = item % push.samplesPerPixel;
+        uint tileIndex = i + (item / push.samplesPerPixel) * N;
+        pixel = push.pixelOffset + tileIndex;
+        record = push.recordOffset + tileIndex * push.samplesPerPixel + k;
+        s = samplerCreate(pixel, push.sampleBase + k, push.seed);
         raster = pixelCorner(pixel) + samplerGet2D(s);
     } else {
-        slot = push.requestOffset + i + item * N;
+        uint index = i + item * N;
+        slot = push.requestOffset + index;
+        record = push.recordOffset + index;
         requestedSample(requests[slot], s, raster, pixel);
     }
-    p = pathBegin(raster, 0u);
+    p = pathBegin(raster, record);
 }
 
 void pathsInTurn(uint i, inout uint rays, inout uint dropped, inout uint paths) {
@@ -66,15 +72,18 @@ void pathsInTurn(uint i, inout uint rays, inout uint dropped, inout uint paths) 
     uint total = (push.invocationCount - i + N - 1u) / N;  // this invocation's items
     if (push.source == PT_SOURCE_TILE) total *= push.samplesPerPixel;
     if (total == 0u) return;
+    uint maxDepth = pathMaxDepth(push.maxDepth);
     uint item = 0u;
-    uint pixel, slot;
+    uint pixel, slot, record;
+    vec2 raster;
     Sampler s;
     PathState p;
-    pathsInTurnStart(i, N, item, pixel, slot, s, p);
+    pathsInTurnStart(i, N, item, pixel, slot, raster, record, s, p);
     // Each path takes at most maxDepth + 1 bounces.
-    uint bounces = total * (push.maxDepth + 1u);
+    uint bounces = total * (maxDepth + 1u);
     for (uint b = 0u; b < bounces; ++b) {
-        if (pathBounce(p, s, push.maxDepth, push.rrDepth, rays)) continue;
+        if (pathBounce(p, s, maxDepth, push.rrDepth, rays)) continue;
+        pathEnd(p, raster, record);
         PixelAccumulator acc = accumulatorCreate();
         accumulatorAdd(acc, p.L);
         if ((push.flags & PT_FLAG_DEPOSIT) != 0u)
@@ -85,7 +94,7 @@ void pathsInTurn(uint i, inout uint rays, inout uint dropped, inout uint paths) 
         paths += acc.count;
         item += 1u;
         if (item == total) break;
-        pathsInTurnStart(i, N, item, pixel, slot, s, p);
+        pathsInTurnStart(i, N, item, pixel, slot, raster, record, s, p);
     }
 }
 #endif

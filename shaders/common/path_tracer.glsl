@@ -178,15 +178,17 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
     return true;
 }
 
-// Radiance arriving at the camera through raster position `raster`.
-vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inout uint rays,
-               uint recordIndex) {
+// The most bounces a path may take: maxDepth, or fewer when every vertex is recorded.
+uint pathMaxDepth(uint maxDepth) {
 #ifdef PT_RECORD_PATHS
-    maxDepth = min(maxDepth, PATH_MAX_VERTICES - 1u);
+    return min(maxDepth, PATH_MAX_VERTICES - 1u);
+#else
+    return maxDepth;
 #endif
-    PathState p = pathBegin(raster, recordIndex);
-    while (pathBounce(p, smp, maxDepth, rrDepth, rays)) {
-    }
+}
+
+// Ends path p that left the camera through `raster`: with PT_RECORD_PATHS, writes its record.
+void pathEnd(PathState p, vec2 raster, uint recordIndex) {
 #ifdef PT_RECORD_PATHS
     PathRecord record;
     record.raster = raster;
@@ -196,6 +198,16 @@ vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inou
     record.firstVertex = p.firstVertex;
     pathRecords[recordIndex] = record;
 #endif
+}
+
+// Radiance arriving at the camera through raster position `raster`.
+vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inout uint rays,
+               uint recordIndex) {
+    maxDepth = pathMaxDepth(maxDepth);
+    PathState p = pathBegin(raster, recordIndex);
+    while (pathBounce(p, smp, maxDepth, rrDepth, rays)) {
+    }
+    pathEnd(p, raster, recordIndex);
     return p.L;
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "gpu_test.h"
 #include "render/path_records.h"
@@ -57,12 +58,13 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
     push.seed = 11;
     push.maxDepth = 8;
     push.rrDepth = 3;
-    auto renderWith = [&](const vk::Kernel& kernel) {
+    auto renderWith = [&](const vk::Kernel& kernel, uint32_t perInvocation = 1) {
         film.clear();
         vk::CommandBatch batch(session.layout());
         batch.bind(session.scene().descriptorSet());
         batch.bind(work);
-        batch.dispatch(kernel, push, pixels);
+        push.itemsPerInvocation = perInvocation;
+        batch.dispatch(kernel, push, (pixels + perInvocation - 1) / perInvocation);
         batch.submitAndWait();
         return film.download();
     };
@@ -113,6 +115,19 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
     EXPECT_GT(withLight, int(pixels) / 2);
     EXPECT_GT(withEmitterHit, 0);
     EXPECT_GT(specular, 0);
+
+    // Paths in turn (PtPush::itemsPerInvocation): the same film, records and vertices, bit for
+    // bit, with 7 pixels per invocation.
+    auto inTurn = renderWith(ptRecord, 7);
+    auto recs7 = paths.records().download<gpu::PathRecord>(pixels);
+    auto verts7 = paths.vertices().download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
+    for (uint32_t i = 0; i < pixels; ++i) {
+        ASSERT_EQ(recorded[i].sum, inTurn[i].sum) << "pixel " << i;
+        ASSERT_EQ(recorded[i].sampleCount, inTurn[i].sampleCount) << "pixel " << i;
+        ASSERT_EQ(std::memcmp(&recs[i], &recs7[i], sizeof(gpu::PathRecord)), 0) << "record " << i;
+        ASSERT_EQ(std::memcmp(&verts[recs[i].firstVertex], &verts7[recs[i].firstVertex],
+                              recs[i].vertexCount * sizeof(gpu::PathVertex)), 0) << "record " << i;
+    }
 }
 
 }  // namespace
