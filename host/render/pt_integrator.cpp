@@ -23,14 +23,18 @@ PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
     if (mode == Mode::PmcHi) m_hi = parsePmcHiOptions(settings);
 }
 
-uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items) {
+uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items, uint32_t pathsPerItem) {
     if (!context.isCpuDevice()) return 1;
-    // Up to 32 items each (measured on lavapipe, pt on cornell-spheres: 8 pixels 1.27x the
+    // Up to 32 paths each (measured on lavapipe, pt on cornell-spheres: 8 pixels 1.27x the
     // samples/s of 1, 32 another 1.08x), while every CPU thread still gets 8 workgroups of a
-    // dispatch (lavapipe runs one thread per core).
+    // dispatch (lavapipe runs one thread per core). 32 paths also keep an invocation's loop
+    // iterations (every traversal step counts) as far below lavapipe's budget of 65535 per
+    // invocation (tests/gpu/test_loop_limits.cpp) as the 64 passes of one pixel a small
+    // image's dispatch may hold.
     const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());
     const uint32_t perThread = 8 * gpu::WORKGROUP_SIZE * threads;
-    return std::clamp<uint32_t>(items / perThread, 1, 32);
+    const uint32_t byPaths = 32 / std::max(1u, pathsPerItem);
+    return std::clamp<uint32_t>(std::min(items / perThread, byPaths), 1, 32);
 }
 
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session) {
@@ -128,7 +132,7 @@ RenderOutput PathTracer::render(RenderSession& session) {
                 // invocation takes several pixels so that its SIMD lanes stay busy. The image
                 // is the same bit for bit whatever the count.
                 const uint32_t perInvocation =
-                    m_mode == Mode::Full ? ptItemsPerInvocation(session.context(), count) : 1;
+                    m_mode == Mode::Full ? ptItemsPerInvocation(session.context(), count, passes) : 1;
                 push.itemsPerInvocation = perInvocation;
                 batch.dispatch(kernel, push, (count + perInvocation - 1) / perInvocation);
             }

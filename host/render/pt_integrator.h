@@ -16,11 +16,12 @@ namespace pmcr {
 // `film`; their request and result lists, unused there, at the session's placeholder.
 void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession& session);
 
-// Items (tile pixels or requests) per invocation of a pt.comp dispatch of `items` items on
-// `context`'s device (PtPush::itemsPerInvocation, paths in turn): on a CPU device, whose SIMD
-// lanes would otherwise idle while the longest path of their vector ends, up to 32 while each
-// CPU thread still gets several workgroups; 1 on a GPU. pt.comp and pt_record.comp read it.
-uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items);
+// Items (tile pixels or requests) per invocation of a pt.comp or pt_record.comp dispatch of
+// `items` items, each of `pathsPerItem` paths (a tile's passes), on `context`'s device
+// (PtPush::itemsPerInvocation, paths in turn): on a CPU device, whose SIMD lanes would otherwise
+// idle while the longest path of their vector ends, up to 32 paths per invocation while each
+// CPU thread still gets several workgroups; 1 on a GPU.
+uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items, uint32_t pathsPerItem = 1);
 
 class PathTracer : public Integrator {
 public:
