@@ -132,7 +132,9 @@ RenderOutput PathTracer::render(RenderSession& session) {
                 // invocation takes several pixels so that its SIMD lanes stay busy. The image
                 // is the same bit for bit whatever the count.
                 const uint32_t perInvocation =
-                    m_mode == Mode::Full ? ptItemsPerInvocation(session.context(), count, passes) : 1;
+                    m_mode == Mode::Full
+                        ? ptItemsPerInvocation(session.context(), count, passes)
+                        : 1;
                 push.itemsPerInvocation = perInvocation;
                 batch.dispatch(kernel, push, (count + perInvocation - 1) / perInvocation);
             }

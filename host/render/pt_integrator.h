@@ -21,7 +21,8 @@ void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession
 // (PtPush::itemsPerInvocation, paths in turn): on a CPU device, whose SIMD lanes would otherwise
 // idle while the longest path of their vector ends, up to 32 paths per invocation while each
 // CPU thread still gets several workgroups; 1 on a GPU.
-uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items, uint32_t pathsPerItem = 1);
+uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items,
+                              uint32_t pathsPerItem = 1);
 
 class PathTracer : public Integrator {
 public:

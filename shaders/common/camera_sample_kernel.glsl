@@ -27,21 +27,23 @@ void requestedSample(SampleRequest r, out Sampler s, out vec2 raster, out uint p
     if (push.source == PT_SOURCE_LIST) {
         raster = pixelCorner(r.pixel) + samplerGet2D(s);
     } else {
-        raster = clamp(raster, vec2(0.0), vec2(sceneInfo.width, sceneInfo.height) * ONE_MINUS_EPSILON);
+        raster = clamp(raster, vec2(0.0),
+                       vec2(sceneInfo.width, sceneInfo.height) * ONE_MINUS_EPSILON);
         pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
     }
 }
 
 #ifdef CAMERA_SAMPLE_PATH_STATES
 // Paths in turn (pt.comp and pt_record.comp, which define CAMERA_SAMPLE_PATH_STATES): with
-// itemsPerInvocation P > 1 the dispatch's invocationCount items (the tile's pixels, or requests) go to
-// N = ceil(count / P) invocations, invocation i taking items i, i + N, i + 2N, ... (so
-// neighbouring lanes trace neighbouring pixels), a tile pixel with all its samples in order. A
-// lane starts its next path as soon as one ends, so the loop runs until the lane with the most
-// bounces in all has finished, not P times the longest single path: on SIMD lanes (lavapipe
-// runs 8 invocations as one vector) fewer lanes idle. Each pixel still has one writer per
-// dispatch in tile mode and gets its samples in the same order, and each request writes its
-// own result, so film and results are the same bit for bit whatever P is.
+// itemsPerInvocation P > 1 the dispatch's invocationCount items (the tile's pixels, or
+// requests) go to N = ceil(count / P) invocations, invocation i taking items i, i + N, i + 2N,
+// ... (so neighbouring lanes trace neighbouring pixels), a tile pixel with all its samples in
+// order. A lane starts its next path as soon as one ends, so the loop runs until the lane with
+// the most bounces in all has finished, not P times the longest single path: on SIMD lanes
+// (lavapipe runs 8 invocations as one vector) fewer lanes idle. Each pixel still has one writer
+// per dispatch in tile mode and gets its samples in the same order, and each request and path
+// record is written by its own path, so film, results and records are the same bit for bit
+// whatever P is (tests/gpu/test_pt_dispatch.cpp, test_path_records.cpp).
 
 // Starts path `item` of invocation i of N: its pixel, result slot (lists), raster position,
 // record index (PT_RECORD_PATHS: as the one-path-per-invocation body numbers them), sampler

@@ -32,7 +32,7 @@ struct PathState {
     vec3 beta;            // path throughput
     vec3 origin;          // the next ray
     vec3 dir;
-    vec3 prevPosition;    // the previous vertex, for the MIS weight of emission hit by BSDF sampling
+    vec3 prevPosition;    // the previous vertex (MIS weight of emission hit by BSDF sampling)
     float prevPdf;        // the solid-angle pdf of the BSDF sample that reached the next vertex
     float etaScale;       // product of eta^2 over transmissions (pbrt-v4), for roulette
     bool prevDelta;       // the next vertex was reached by a delta lobe (or is seen by the camera)
@@ -66,7 +66,8 @@ PathState pathBegin(vec2 raster, uint recordIndex) {
 // (next-event estimation), then samples the BSDF for the next ray. Returns false when the path
 // has ended (escaped, absorbed, maxDepth reached or stopped by Russian roulette); p.L is then
 // final. A path takes at most maxDepth + 1 bounces.
-bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDepth, inout uint rays) {
+bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDepth,
+                inout uint rays) {
     Hit hit;
     rays += 1u;
     if (!traceClosest(p.origin, p.dir, FLOAT_MAX, hit)) return false;
