@@ -99,33 +99,46 @@ std::vector<gpu::BvhQuery> primaryRays(const gpu::SceneInfo& info, std::mt19937&
     return rays;
 }
 
-// Bounce rays: from each primary hit, a cosine-distributed direction about the surface normal.
+// Where `ray` hits: the point, the triangle's geometric normal turned to face the ray's origin,
+// and an origin for rays leaving it (offset along that normal, relative to the point's size).
+struct SurfaceHit {
+    glm::vec3 point, normal, spawn;
+};
+SurfaceHit surfaceHit(const Scene& scene, const gpu::BvhQuery& ray, const gpu::Hit& hit) {
+    const gpu::Triangle& t = scene.triangles[hit.triangle];
+    const glm::vec3 p0 = scene.vertices[t.i0].position, p1 = scene.vertices[t.i1].position,
+                    p2 = scene.vertices[t.i2].position;
+    glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    if (glm::dot(n, ray.direction) > 0.0f) n = -n;
+    const glm::vec3 p = ray.origin + hit.t * ray.direction;
+    return {p, n, p + n * 1e-4f * std::max(1.0f, glm::length(p))};
+}
+
+// Bounce rays: from each primary hit, a cosine-distributed direction about the surface normal
+// (Malley's method: a uniform point of the unit disk, r = sqrt(u1), lifted to the hemisphere;
+// pbrt-v4 section A.5.3).
 std::vector<gpu::BvhQuery> bounceRays(const Scene& scene, const std::vector<gpu::BvhQuery>& primary,
                                       const std::vector<gpu::Hit>& hits, std::mt19937& rng) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::vector<gpu::BvhQuery> rays;
     for (size_t i = 0; i < primary.size(); ++i) {
         if (hits[i].triangle == gpu::BVH_NO_HIT) continue;
-        const gpu::Triangle& t = scene.triangles[hits[i].triangle];
-        const glm::vec3 p0 = scene.vertices[t.i0].position, p1 = scene.vertices[t.i1].position,
-                        p2 = scene.vertices[t.i2].position;
-        glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-        if (glm::dot(n, primary[i].direction) > 0.0f) n = -n;
-        const glm::vec3 p = primary[i].origin + hits[i].t * primary[i].direction;
-        // Cosine hemisphere about n.
+        const SurfaceHit s = surfaceHit(scene, primary[i], hits[i]);
+        const glm::vec3& n = s.normal;
         const float r = std::sqrt(u(rng)), phi = 6.2831853f * u(rng);
         const glm::vec3 a = std::abs(n.x) > 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
         const glm::vec3 tx = glm::normalize(glm::cross(a, n)), ty = glm::cross(n, tx);
         const glm::vec3 d = glm::normalize(r * std::cos(phi) * tx + r * std::sin(phi) * ty +
                                            std::sqrt(std::max(0.0f, 1.0f - r * r)) * n);
-        rays.push_back({p + n * 1e-4f * std::max(1.0f, glm::length(p)), 1e30f, d, 0});
+        rays.push_back({s.spawn, 1e30f, d, 0});
     }
     return rays;
 }
 
 // Shadow rays: from each bounce ray's hit towards a random emitter point (an emitter chosen by
-// power as the renderer's light sampling does, a uniform point on its triangle), ending just
-// short of it. Traced as any-hit queries.
+// power as the renderer's light sampling does, a uniform point on its triangle by the
+// square-root mapping b0 = 1 - sqrt(u1), b1 = u2 sqrt(u1); Osada et al. 2002, eq. 1), ending
+// just short of it. Traced as any-hit queries.
 std::vector<gpu::BvhQuery> shadowRays(const Scene& scene, const std::vector<gpu::BvhQuery>& bounce,
                                       const std::vector<gpu::Hit>& hits, std::mt19937& rng) {
     const EmitterTable table = buildEmitters(scene);
@@ -136,17 +149,11 @@ std::vector<gpu::BvhQuery> shadowRays(const Scene& scene, const std::vector<gpu:
     std::vector<gpu::BvhQuery> rays;
     for (size_t i = 0; i < bounce.size(); ++i) {
         if (hits[i].triangle == gpu::BVH_NO_HIT) continue;
-        const gpu::Triangle& t = scene.triangles[hits[i].triangle];
-        const glm::vec3 p0 = scene.vertices[t.i0].position, p1 = scene.vertices[t.i1].position,
-                        p2 = scene.vertices[t.i2].position;
-        glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-        if (glm::dot(n, bounce[i].direction) > 0.0f) n = -n;
-        const glm::vec3 p = bounce[i].origin + hits[i].t * bounce[i].direction;
+        const glm::vec3 o = surfaceHit(scene, bounce[i], hits[i]).spawn;
         const gpu::Triangle& l = scene.triangles[table.emitters[pick(rng)].triangle];
         const float su = std::sqrt(u(rng)), b1 = 1.0f - su, b2 = u(rng) * su;
         const glm::vec3 q = (1.0f - b1 - b2) * scene.vertices[l.i0].position +
                             b1 * scene.vertices[l.i1].position + b2 * scene.vertices[l.i2].position;
-        const glm::vec3 o = p + n * 1e-4f * std::max(1.0f, glm::length(p));
         const float dist = glm::length(q - o);
         if (!(dist > 0.0f)) continue;
         rays.push_back({o, dist * (1.0f - 1e-4f), (q - o) / dist, 0});

@@ -23,10 +23,11 @@ layout(set = WORK_SET, binding = PT_BINDING_PATH_VERTICES, scalar) writeonly buf
 };
 #endif
 
-// A path under construction: what pathBounce carries from one bounce to the next. Splitting the
-// path tracer into pathBegin / pathBounce / pathEnd lets pt.comp run several paths in turn in
-// one invocation (a new one starts as soon as the last ends, camera_sample_kernel.glsl), so
-// that SIMD lanes whose path ended early do not idle until their neighbours' paths end.
+// A path under construction: what pathBounce carries from one bounce to the next. The path
+// tracer is pathBegin, then pathBounce until it returns false, then pathEnd; pt.comp and
+// pt_record.comp run several paths in turn in one invocation that way (a new one starts as soon
+// as the last ends, camera_sample_kernel.glsl), so that SIMD lanes whose path ended early do not
+// idle until their neighbours' paths end.
 struct PathState {
     vec3 L;               // radiance gathered so far
     vec3 beta;            // path throughput
@@ -201,21 +202,10 @@ void pathEnd(PathState p, vec2 raster, uint recordIndex) {
 #endif
 }
 
-// Radiance arriving at the camera through raster position `raster`.
-vec3 pathTrace(vec2 raster, inout Sampler smp, uint maxDepth, uint rrDepth, inout uint rays,
-               uint recordIndex) {
-    maxDepth = pathMaxDepth(maxDepth);
-    PathState p = pathBegin(raster, recordIndex);
-    while (pathBounce(p, smp, maxDepth, rrDepth, rays)) {
-    }
-    pathEnd(p, raster, recordIndex);
-    return p.L;
-}
-
 // Direct lighting only (MIS of light and BSDF sampling, Veach 1997 sec. 9.2.4): emission seen
 // at x1 plus light reflected at x1 towards the camera, estimated with `lightSamples` light and
 // as many BSDF samples, each weighted by the power heuristic with sample counts. Its expected
-// value equals pathTrace with maxDepth = 1. The PMC-HI baseline.
+// value equals a path traced with maxDepth = 1. The PMC-HI baseline.
 vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uint rays) {
     vec3 origin = sceneInfo.cameraPosition;
     vec3 dir = cameraDirection(raster);

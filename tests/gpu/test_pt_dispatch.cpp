@@ -1,8 +1,13 @@
 // The per-camera-sample kernels with PT_SOURCE_TILE (shaders/common/camera_sample_kernel.glsl):
 // several passes in one dispatch (samplesPerPixel > 1, as pt does on small images) must leave
 // the film exactly as one dispatch per pass does, so an image does not depend on how the
-// dispatch sizer, which follows the clock, split the passes.
+// dispatch sizer, which follows the clock, split the passes; and pt.comp's paths in turn
+// (PtPush::itemsPerInvocation) must leave film and results as one path per invocation does.
 #include <gtest/gtest.h>
+
+#include <cstring>
+#include <utility>
+#include <vector>
 
 #include "gpu_test.h"
 #include "render/pt_integrator.h"
@@ -13,126 +18,120 @@
 namespace pmcr::test {
 namespace {
 
-class PtDispatch : public GpuTest, public ::testing::WithParamInterface<const char*> {};
-
-TEST_P(PtDispatch, SeveralPassesInOneDispatchGiveTheSameFilm) {
-    const Scene& scene = testScene("scenes/cornell-spheres.glb");
-    RenderSettings settings;
-    settings.width = 24;
-    settings.height = 24;
-    RenderSession session(context(), scene, settings, 24, 24);
-    const uint32_t pixels = 24 * 24;
-    const uint32_t passes = 5;
-
-    vk::Kernel kernel(session.layout(), GetParam());
-    Film& film = session.film();
-    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "dispatch test work");
-    bindTileWork(work, film, session);
-
-    gpu::PtPush push{};
-    push.source = gpu::PT_SOURCE_TILE;
-    push.flags = gpu::PT_FLAG_DEPOSIT;
-    push.invocationCount = pixels;
-    push.seed = 7;
-    push.maxDepth = 8;
-    push.rrDepth = 3;
-    push.lightSamples = 2;
-    // Passes 3 .. 3 + passes - 1 in `perDispatch` passes per dispatch.
-    auto render = [&](uint32_t perDispatch) {
-        film.clear();
+// One tile-mode kernel on cornell-spheres at width x height: the session and its work set.
+struct TileRig {
+    TileRig(vk::Context& context, int width, int height, const char* kernelName)
+        : session(context, testScene("scenes/cornell-spheres.glb"), settingsOf(width, height), width,
+                  height),
+          kernel(session.layout(), kernelName),
+          work(session.layout(), vk::DescriptorSet::Kind::Work, "dispatch test work") {
+        bindTileWork(work, session.film(), session);
+    }
+    static RenderSettings settingsOf(int width, int height) {
+        RenderSettings settings;
+        settings.width = width;
+        settings.height = height;
+        return settings;
+    }
+    // Runs `dispatches` (each a push and its invocation count) in one batch on a cleared film.
+    void run(const std::vector<std::pair<gpu::PtPush, uint32_t>>& dispatches) {
+        session.film().clear();
         vk::CommandBatch batch(session.layout());
         batch.bind(session.scene().descriptorSet());
         batch.bind(work);
+        for (const auto& [push, invocations] : dispatches) batch.dispatch(kernel, push, invocations);
+        batch.submitAndWait();
+    }
+    RenderSession session;
+    vk::Kernel kernel;
+    vk::DescriptorSet work;
+};
+
+gpu::PtPush tilePush(uint32_t seed) {
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.seed = seed;
+    push.maxDepth = 8;
+    push.rrDepth = 3;
+    push.lightSamples = 2;
+    return push;
+}
+
+uint32_t invocationsFor(uint32_t items, uint32_t perInvocation) {
+    const uint32_t p = std::max(perInvocation, 1u);
+    return (items + p - 1) / p;
+}
+
+// Films equal bit for bit, each pixel with `samples` samples, and not black.
+void expectSameFilm(const std::vector<gpu::FilmPixel>& a, const std::vector<gpu::FilmPixel>& b,
+                    uint32_t samples, const std::string& what) {
+    ASSERT_EQ(a.size(), b.size());
+    double total = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i].sampleCount, samples) << "pixel " << i;
+        ASSERT_EQ(std::memcmp(&a[i], &b[i], sizeof(gpu::FilmPixel)), 0) << "pixel " << i << ", " << what;
+        total += a[i].sum.x;
+    }
+    EXPECT_GT(total, 0.0);
+}
+
+class PtDispatch : public GpuTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(PtDispatch, SeveralPassesInOneDispatchGiveTheSameFilm) {
+    TileRig rig(context(), 24, 24, GetParam());
+    const uint32_t pixels = 24 * 24;
+    const uint32_t passes = 5;
+    // Passes 3 .. 3 + passes - 1 in `perDispatch` passes per dispatch.
+    auto render = [&](uint32_t perDispatch) {
+        std::vector<std::pair<gpu::PtPush, uint32_t>> dispatches;
         for (uint32_t pass = 0; pass < passes; pass += perDispatch) {
+            gpu::PtPush push = tilePush(7);
+            push.invocationCount = pixels;
             push.sampleBase = 3 + pass;
             push.samplesPerPixel = std::min(perDispatch, passes - pass);
-            batch.dispatch(kernel, push, pixels);
+            dispatches.push_back({push, pixels});
         }
-        batch.submitAndWait();
-        return film.download();
+        rig.run(dispatches);
+        return rig.session.film().download();
     };
     const auto onePerDispatch = render(1);
-    const auto allInOne = render(passes);
-    const auto twoPerDispatch = render(2);
-    double total = 0.0;
-    for (uint32_t i = 0; i < pixels; ++i) {
-        ASSERT_EQ(onePerDispatch[i].sampleCount, passes) << "pixel " << i;
-        for (const auto* other : {&allInOne, &twoPerDispatch}) {
-            ASSERT_EQ(onePerDispatch[i].sum, (*other)[i].sum) << "pixel " << i;
-            ASSERT_EQ(onePerDispatch[i].lumSum, (*other)[i].lumSum) << "pixel " << i;
-            ASSERT_EQ(onePerDispatch[i].lumSqSum, (*other)[i].lumSqSum) << "pixel " << i;
-            ASSERT_EQ(onePerDispatch[i].sampleCount, (*other)[i].sampleCount) << "pixel " << i;
-        }
-        total += onePerDispatch[i].sum.x;
-    }
-    EXPECT_GT(total, 0.0);  // the image is not black
+    expectSameFilm(onePerDispatch, render(passes), passes, "all passes in one dispatch");
+    expectSameFilm(onePerDispatch, render(2), passes, "two passes per dispatch");
 }
 
 INSTANTIATE_TEST_SUITE_P(Kernels, PtDispatch, ::testing::Values("pt", "direct"));
 
-// pt.comp's paths in turn (PtPush::itemsPerInvocation, camera_sample_kernel.glsl): however many
-// pixels each invocation takes, in whatever dispatch split, every pixel gets the same samples
-// in the same order from one writer, so the film is the same bit for bit; a tile whose pixel
-// count is not a multiple of P, and a tile that does not start at pixel 0, included.
+// pt.comp's paths in turn: however many pixels each invocation takes, every pixel gets the
+// same samples in the same order from one writer, so the film is the same bit for bit; a tile
+// whose pixel count is not a multiple of P, and a tile that does not start at pixel 0, included.
 TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
-    const Scene& scene = testScene("scenes/cornell-spheres.glb");
-    RenderSettings settings;
-    settings.width = 23;
-    settings.height = 19;
-    RenderSession session(context(), scene, settings, 23, 19);
+    TileRig rig(context(), 23, 19, "pt");
     const uint32_t pixels = 23 * 19;
-
-    vk::Kernel kernel(session.layout(), "pt");
-    Film& film = session.film();
-    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "paths in turn test work");
-    bindTileWork(work, film, session);
-
-    gpu::PtPush push{};
-    push.source = gpu::PT_SOURCE_TILE;
-    push.flags = gpu::PT_FLAG_DEPOSIT;
-    push.seed = 11;
-    push.maxDepth = 8;
-    push.rrDepth = 3;
-    push.sampleBase = 2;
-    push.samplesPerPixel = 3;
-    // The image in two tiles (pixels [0, 100) and [100, pixels)), P pixels per invocation.
+    // The image in two tiles (pixels [0, 100) and [100, pixels)), 3 passes, P pixels each.
     auto render = [&](uint32_t P) {
-        film.clear();
-        vk::CommandBatch batch(session.layout());
-        batch.bind(session.scene().descriptorSet());
-        batch.bind(work);
-        push.itemsPerInvocation = P;
+        std::vector<std::pair<gpu::PtPush, uint32_t>> dispatches;
         for (auto [offset, count] : {std::pair<uint32_t, uint32_t>{0, 100}, {100, pixels - 100}}) {
+            gpu::PtPush push = tilePush(11);
+            push.sampleBase = 2;
+            push.samplesPerPixel = 3;
+            push.itemsPerInvocation = P;
             push.pixelOffset = offset;
             push.invocationCount = count;
-            batch.dispatch(kernel, push, (count + std::max(P, 1u) - 1) / std::max(P, 1u));
+            dispatches.push_back({push, invocationsFor(count, P)});
         }
-        batch.submitAndWait();
-        return film.download();
+        rig.run(dispatches);
+        return rig.session.film().download();
     };
     const auto reference = render(1);
-    for (uint32_t P : {0u, 3u, 8u, 64u}) {
-        const auto other = render(P);
-        for (uint32_t i = 0; i < pixels; ++i) {
-            ASSERT_EQ(reference[i].sampleCount, 3u) << "pixel " << i;
-            ASSERT_EQ(reference[i].sum, other[i].sum) << "pixel " << i << ", P = " << P;
-            ASSERT_EQ(reference[i].lumSum, other[i].lumSum) << "pixel " << i << ", P = " << P;
-            ASSERT_EQ(reference[i].lumSqSum, other[i].lumSqSum) << "pixel " << i << ", P = " << P;
-            ASSERT_EQ(reference[i].sampleCount, other[i].sampleCount) << "pixel " << i << ", P = " << P;
-        }
-    }
+    for (uint32_t P : {0u, 3u, 8u, 64u}) expectSameFilm(reference, render(P), 3, "P = " + std::to_string(P));
 }
 
 // The same for request lists (PMC-IP and PMC-PT): every request writes its own result, the same
 // bit for bit whatever the number of requests per invocation, for pixel-sequence requests and
 // for given raster positions.
 TEST_F(GpuTest, PtRequestsPerInvocationLeaveTheResultsUnchanged) {
-    const Scene& scene = testScene("scenes/cornell-spheres.glb");
-    RenderSettings settings;
-    settings.width = 16;
-    settings.height = 16;
-    RenderSession session(context(), scene, settings, 16, 16);
-    vk::Kernel kernel(session.layout(), "pt");
+    TileRig rig(context(), 16, 16, "pt");
     std::vector<gpu::SampleRequest> requests(301);
     for (uint32_t i = 0; i < requests.size(); ++i) {
         const uint32_t pixel = (i * 37u) % 256u;
@@ -141,31 +140,22 @@ TEST_F(GpuTest, PtRequestsPerInvocationLeaveTheResultsUnchanged) {
     auto requestBuffer = vk::Buffer::storage(context(), requests, "requests");
     vk::Buffer results(context(), requests.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        "results", vk::MemoryUsage::Readback);
-    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "requests in turn test work");
-    work.bind(gpu::PT_BINDING_FILM, session.film().pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, session.film().counters());
-    work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
-    work.bind(gpu::PT_BINDING_RESULTS, results);
-
-    gpu::PtPush push{};
-    push.flags = gpu::PT_FLAG_WRITE_RESULTS;
-    push.seed = 5;
-    push.maxDepth = 8;
-    push.rrDepth = 3;
+    rig.work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
+    rig.work.bind(gpu::PT_BINDING_RESULTS, results);
     // The list in two dispatches (requests [0, 120) and [120, 301)), P requests per invocation.
     auto render = [&](uint32_t source, uint32_t P) {
         results.fill(0);
-        vk::CommandBatch batch(session.layout());
-        batch.bind(session.scene().descriptorSet());
-        batch.bind(work);
-        push.source = source;
-        push.itemsPerInvocation = P;
+        std::vector<std::pair<gpu::PtPush, uint32_t>> dispatches;
         for (auto [offset, count] : {std::pair<uint32_t, uint32_t>{0, 120}, {120, 181}}) {
+            gpu::PtPush push = tilePush(5);
+            push.source = source;
+            push.flags = gpu::PT_FLAG_WRITE_RESULTS;
+            push.itemsPerInvocation = P;
             push.requestOffset = offset;
             push.invocationCount = count;
-            batch.dispatch(kernel, push, (count + std::max(P, 1u) - 1) / std::max(P, 1u));
+            dispatches.push_back({push, invocationsFor(count, P)});
         }
-        batch.submitAndWait();
+        rig.run(dispatches);
         return results.download<glm::vec4>(requests.size());
     };
     for (uint32_t source : {gpu::PT_SOURCE_LIST, gpu::PT_SOURCE_POINTS}) {
