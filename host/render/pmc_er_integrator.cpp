@@ -28,7 +28,7 @@ constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
 // --population auto: one member per 4 pixels. The paper's 5000 per 640x480 leaves lavapipe's
 // dispatches too small to fill the device; measured on cornell-glass 128x128 at equal time (Eff
 // over ERPT, geometric mean of 2 seeds): the paper's 267 members 0.19, 1024 0.41, 4096 0.50,
-// 16384 0.41 (README, PMC-ER).
+// 16384 0.41 (docs/methods.md, PMC-ER).
 constexpr uint32_t kPixelsPerMember = 4;
 
 }  // namespace

@@ -16,7 +16,7 @@
 // expected deposit equal to its energy (render/path_population.h), so the image is unbiased in
 // the sense of ERPT: its expected total energy is the seeds', and deposits follow the current
 // paths of chains whose every kernel leaves the target function invariant. Deviations from the
-// paper are listed in README.md ("PMC-ER").
+// paper are listed in docs/methods.md ("PMC-ER").
 //
 // Passes: `--pass-spp` k pool positions per pixel per pass, exactly k in every pixel (the pool
 // is stratified per pixel, render/stratified_pixel_pool.h), and T = 1 + ceil((k P - N) / R)

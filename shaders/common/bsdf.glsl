@@ -1,5 +1,5 @@
 // pmcr's one material model: the glTF metallic-roughness parameters as a mixture of lobes
-// (see shared/scene_types.h `Material` and host/scene/material notes in README.md):
+// (see shared/scene_types.h `Material` and the material notes in docs/scenes.md):
 //   conductor   weight metallic                        GGX, Schlick F0 = baseColor; mirror if smooth
 //   dielectric  weight (1 - metallic) transmission     smooth or GGX rough glass (Walter 2007),
 //                                                      transmission tinted by baseColor
