@@ -5,8 +5,9 @@
 // are measured in the same run on the same machine.
 //
 //   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N] [--threads T]
-//                         [--cpu-time] [--json] [SCENE...]
+//                         [--cpu-time] [--steps] [--json] [SCENE...]
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -39,7 +40,7 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kUsage =
     "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N]\n"
-    "                             [--threads T] [--cpu-time] [--json] SCENE...\n"
+    "                             [--threads T] [--cpu-time] [--steps] [--json] SCENE...\n"
     "       (bench/throughput runs it on the default scene and the dragon)\n"
     "\n"
     "Traces three ray sets: primary rays (one per pixel of a W x H image, default 256 x 256,\n"
@@ -62,6 +63,10 @@ const char* const kUsage =
     "                        scene, triangles, {gpu,embree}_{primary,bounce,shadow}_mrays,\n"
     "                        cpu_{primary,bounce}_mrays, pt_msamples (Embree keys null\n"
     "                        without Embree)\n"
+    "  --steps               also print the kernel's traversal steps per ray (interior nodes,\n"
+    "                        triangles) and the share of an 8-lane vector's steps that do work\n"
+    "                        (the loop runs until its slowest lane is done), and the GPU's\n"
+    "                        Mrays/s on the same rays sorted by their steps (lanes kept busy)\n"
     "  --cpu-time            also print Mrays/s per CPU second: the process's CPU time during\n"
     "                        the dispatch (on lavapipe, its worker threads) and the tracing\n"
     "                        thread's CPU time; steadier than wall time on a loaded machine\n";
@@ -192,8 +197,9 @@ Timing traceCpu(const Bvh& bvh, const std::vector<gpu::BvhQuery>& rays, bool any
 }
 
 Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
-                const std::vector<gpu::BvhQuery>& rays, bool anyHit, int repeats) {
-    vk::Kernel kernel(layout, "bench/trace_rays");
+                const std::vector<gpu::BvhQuery>& rays, bool anyHit, int repeats,
+                const char* kernelName = "bench/trace_rays") {
+    vk::Kernel kernel(layout, kernelName);
     auto queries = vk::Buffer::storage(context, rays, "bench rays");
     vk::Buffer hits(context, std::max<size_t>(16, rays.size() * sizeof(gpu::Hit)),
                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "bench hits");
@@ -248,6 +254,37 @@ double agreement(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b,
     return a.empty() ? 1.0 : double(same) / double(a.size());
 }
 
+// What the kernel's traversal loop does per ray (trace_rays_steps.comp): interior-node and
+// triangle steps, and the share of lane-steps that do work when lavapipe runs 8 consecutive
+// invocations as one vector, whose loop runs until its slowest lane is done (1 = no lane idles).
+struct StepCounts {
+    double interior = 0.0, triangle = 0.0, simdEfficiency = 0.0;
+    std::vector<uint32_t> steps;  // per ray
+};
+StepCounts countSteps(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
+                      const std::vector<gpu::BvhQuery>& rays, bool anyHit) {
+    const Timing t = traceGpu(context, layout, scene, rays, anyHit, 1, "bench/trace_rays_steps");
+    StepCounts c;
+    double laneSteps = 0.0, vectorSteps = 0.0;
+    for (size_t first = 0; first < rays.size(); first += 8) {
+        uint32_t longest = 0;
+        for (size_t i = first; i < std::min(first + 8, rays.size()); ++i) {
+            const uint32_t interior = std::bit_cast<uint32_t>(t.hits[i].b1);
+            const uint32_t triangle = std::bit_cast<uint32_t>(t.hits[i].b2);
+            c.interior += interior;
+            c.triangle += triangle;
+            longest = std::max(longest, interior + triangle);
+            c.steps.push_back(interior + triangle);
+        }
+        vectorSteps += 8.0 * longest;
+    }
+    laneSteps = c.interior + c.triangle;
+    c.interior /= double(std::max<size_t>(1, rays.size()));
+    c.triangle /= double(std::max<size_t>(1, rays.size()));
+    c.simdEfficiency = vectorSteps > 0.0 ? laneSteps / vectorSteps : 1.0;
+    return c;
+}
+
 // Mrays/s of one ray set by each tracer.
 struct RaySetResult {
     double gpu = 0.0, embree = 0.0, cpu = 0.0;
@@ -293,7 +330,7 @@ int main(int argc, char** argv) {
     try {
         cli::Args args(argc, argv, 1);
         int width = 256, height = 256, repeats = 3;
-        bool cpuTime = false, json = false;
+        bool cpuTime = false, json = false, steps = false;
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
         if (const char* lp = std::getenv("LP_NUM_THREADS"); lp && std::atoi(lp) > 0) threads = unsigned(std::atoi(lp));
         std::string device;
@@ -307,6 +344,7 @@ int main(int argc, char** argv) {
             else if (a == "--threads") threads = unsigned(cli::parseInt(a, args.value(a), 1, 256));
             else if (a == "--cpu-time") cpuTime = true;
             else if (a == "--json") json = true;
+            else if (a == "--steps") steps = true;
             else if (a == "--help" || a == "-h") {
                 std::printf("%s", kUsage);
                 return 0;
@@ -400,6 +438,40 @@ int main(int argc, char** argv) {
             if (haveEmbree)
                 std::printf("%-20s %9s | Embree's fastest API: %s (primary), %s (bounce), %s (shadow)\n", "", "",
                             p.embreeApi, b.embreeApi, sh.embreeApi);
+            if (steps) {
+                const std::vector<gpu::BvhQuery>* sets[] = {&primary, &bounce, &shadow};
+                for (int k = 0; k < 3; ++k) {
+                    const StepCounts c = countSteps(context, layout, gpuScene, *sets[k], k == 2);
+                    // The same rays ordered by their step counts, so that the 8 lanes of a vector
+                    // take (nearly) as many steps each: what refilling idle lanes could gain at
+                    // most (it also gives up primary rays' coherence).
+                    std::vector<size_t> order(sets[k]->size());
+                    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+                    // Sorted within windows of 256 rays, which keeps most of the rays' locality.
+                    for (size_t w = 0; w < order.size(); w += 256)
+                        std::stable_sort(order.begin() + w, order.begin() + std::min(w + 256, order.size()),
+                                         [&](size_t a, size_t b) { return c.steps[a] < c.steps[b]; });
+                    double lane = 0.0, vector = 0.0;
+                    for (size_t w = 0; w < order.size(); w += 8) {
+                        uint32_t longest = 0;
+                        for (size_t i = w; i < std::min(w + 8, order.size()); ++i) {
+                            lane += c.steps[order[i]];
+                            longest = std::max(longest, c.steps[order[i]]);
+                        }
+                        vector += 8.0 * longest;
+                    }
+                    std::vector<gpu::BvhQuery> sorted;
+                    for (size_t i : order) sorted.push_back((*sets[k])[i]);
+                    const Timing t = traceGpu(context, layout, gpuScene, sorted, k == 2, repeats);
+                    const double full = t.seconds > 0.0 ? double(sorted.size()) / t.seconds * 1e-6 : 0.0;
+                    char ratio[16] = "-";
+                    if (haveEmbree) std::snprintf(ratio, sizeof ratio, "%.2fx", full / rows[k].r.embree);
+                    std::printf("%-20s %9s | %-8s steps/ray %.1f interior + %.1f triangle; 8-lane "
+                                "efficiency %.2f; sorted by steps: %.2f, %.2f Mrays/s (%s Embree)\n", "", "",
+                                rows[k].name, c.interior, c.triangle, c.simdEfficiency,
+                                vector > 0.0 ? lane / vector : 1.0, full, ratio);
+                }
+            }
         }
         if (json) std::printf("%s\n", out.dump(2).c_str());
         return 0;

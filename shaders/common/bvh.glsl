@@ -28,6 +28,12 @@ layout(set = SCENE_SET, binding = BINDING_BVH) uniform usamplerBuffer bvhTexels;
 
 uvec4 bvhTexel(uint i) { return texelFetch(bvhTexels, int(i)); }
 
+#ifdef BVH_COUNT_STEPS
+// Diagnostics only (shaders/bench/trace_rays_steps.comp): the steps of the last traversal.
+uint bvhInteriorSteps = 0u;
+uint bvhTriangleSteps = 0u;
+#endif
+
 // Reciprocal direction with tiny components clamped to +-BVH_MIN_DIRECTION (-0 taken as +).
 vec3 bvhSafeInverse(vec3 dir) {
     vec3 d;
@@ -107,9 +113,20 @@ bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
     uint ref = bvhNodeRef(rootLo, rootHi);
     bool found = false;
     uint texelCount = uint(textureSize(bvhTexels));
+#ifdef BVH_COUNT_STEPS
+    bvhInteriorSteps = 0u;
+    bvhTriangleSteps = 0u;
+#endif
     for (uint step = 0u; step < texelCount; ++step) {
         uint count = ref & 7u;
         uint address = ref >> 3;
+#ifdef BVH_COUNT_STEPS
+        if (count > 0u) {
+            ++bvhTriangleSteps;
+        } else {
+            ++bvhInteriorSteps;
+        }
+#endif
         // The same four fetches in every lane: two child records, or a triangle (the fourth
         // fetch repeats its first texel, so it never reads past the last triangle).
         uvec4 w0 = bvhTexel(address);
