@@ -198,7 +198,7 @@ Timing traceCpu(const Bvh& bvh, const std::vector<gpu::BvhQuery>& rays, bool any
 
 Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
                 const std::vector<gpu::BvhQuery>& rays, bool anyHit, int repeats,
-                const char* kernelName = "bench/trace_rays") {
+                uint32_t raysPerInvocation, const char* kernelName = "bench/trace_rays") {
     vk::Kernel kernel(layout, kernelName);
     auto queries = vk::Buffer::storage(context, rays, "bench rays");
     vk::Buffer hits(context, std::max<size_t>(16, rays.size() * sizeof(gpu::Hit)),
@@ -209,6 +209,7 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
     struct Push {
         uint32_t count;
         uint32_t anyHit;
+        uint32_t raysPerInvocation;
     };
     const uint32_t flag = anyHit ? 1u : 0u;
     // Warm-up: the first dispatch compiles the shader on lavapipe.
@@ -216,7 +217,7 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
         vk::CommandBatch batch(layout);
         batch.bind(scene.descriptorSet());
         batch.bind(work);
-        batch.dispatch(kernel, Push{std::min<uint32_t>(uint32_t(rays.size()), 64), flag}, 64);
+        batch.dispatch(kernel, Push{std::min<uint32_t>(uint32_t(rays.size()), 64), flag, 1}, 64);
         batch.submitAndWait();
     }
     Timing t;
@@ -227,7 +228,9 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
         vk::CommandBatch batch(layout);
         batch.bind(scene.descriptorSet());
         batch.bind(work);
-        batch.dispatch(kernel, Push{uint32_t(rays.size()), flag}, uint32_t(rays.size()));
+        const uint32_t count = uint32_t(rays.size());
+        batch.dispatch(kernel, Push{count, flag, raysPerInvocation},
+                       (count + raysPerInvocation - 1) / raysPerInvocation);
         batch.submitAndWait();
         const double seconds = secondsSince(start);
         if (seconds < t.seconds) {
@@ -263,7 +266,7 @@ struct StepCounts {
 };
 StepCounts countSteps(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
                       const std::vector<gpu::BvhQuery>& rays, bool anyHit) {
-    const Timing t = traceGpu(context, layout, scene, rays, anyHit, 1, "bench/trace_rays_steps");
+    const Timing t = traceGpu(context, layout, scene, rays, anyHit, 1, 1, "bench/trace_rays_steps");
     StepCounts c;
     double laneSteps = 0.0, vectorSteps = 0.0;
     for (size_t first = 0; first < rays.size(); first += 8) {
@@ -293,13 +296,15 @@ struct RaySetResult {
     double agreeCpu = 1.0, agreeEmbree = 1.0;
 };
 
+uint32_t raysPerInvocation = 1;  // --rays-per-invocation
+
 RaySetResult measure(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& gpuScene,
                      [[maybe_unused]] const void* embree, const std::vector<gpu::BvhQuery>& rays,
                      bool anyHit, [[maybe_unused]] bool coherent, int repeats, Timing& cpu) {
     auto mrays = [&](double s) { return s > 0.0 ? double(rays.size()) / s * 1e-6 : 0.0; };
     RaySetResult r;
     cpu = traceCpu(gpuScene.bvh(), rays, anyHit, repeats);
-    Timing gpu = traceGpu(context, layout, gpuScene, rays, anyHit, repeats);
+    Timing gpu = traceGpu(context, layout, gpuScene, rays, anyHit, repeats, raysPerInvocation);
     r.gpu = mrays(gpu.seconds);
     r.cpu = mrays(cpu.seconds);
     r.gpuPerCpuSecond = mrays(gpu.cpuSeconds);
@@ -345,6 +350,8 @@ int main(int argc, char** argv) {
             else if (a == "--cpu-time") cpuTime = true;
             else if (a == "--json") json = true;
             else if (a == "--steps") steps = true;
+            else if (a == "--rays-per-invocation")
+                raysPerInvocation = uint32_t(cli::parseInt(a, args.value(a), 1, 64));
             else if (a == "--help" || a == "-h") {
                 std::printf("%s", kUsage);
                 return 0;
@@ -462,7 +469,7 @@ int main(int argc, char** argv) {
                     }
                     std::vector<gpu::BvhQuery> sorted;
                     for (size_t i : order) sorted.push_back((*sets[k])[i]);
-                    const Timing t = traceGpu(context, layout, gpuScene, sorted, k == 2, repeats);
+                    const Timing t = traceGpu(context, layout, gpuScene, sorted, k == 2, repeats, 1);
                     const double full = t.seconds > 0.0 ? double(sorted.size()) / t.seconds * 1e-6 : 0.0;
                     char ratio[16] = "-";
                     if (haveEmbree) std::snprintf(ratio, sizeof ratio, "%.2fx", full / rows[k].r.embree);

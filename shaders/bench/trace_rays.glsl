@@ -1,30 +1,60 @@
-// The body of trace_rays.comp and trace_rays_steps.comp: one ray per invocation, its closest
-// hit (or occlusion: t = 0 when occluded, tMax when clear) into a buffer.
+// The body of trace_rays.comp and trace_rays_steps.comp: closest hits (or occlusion: t = 0 when
+// occluded, tMax when clear) of a buffer of rays into a buffer. With raysPerInvocation P > 1
+// the count rays go to N = ceil(count / P) invocations, invocation i taking rays i, i + N, ...
+// in turn: a lane starts its next ray as soon as its last one ends, so that SIMD lanes (lavapipe
+// runs 8 invocations as one vector) do not idle until the longest ray of their vector ends.
 #include "shared/host_device.h"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(set = WORK_SET, binding = 0, scalar) readonly buffer Queries { BvhQuery queries[]; };
 layout(set = WORK_SET, binding = 1, scalar) writeonly buffer Hits { Hit hits[]; };
-layout(push_constant, scalar) uniform Push { uint count; uint anyHit; } push;
+layout(push_constant, scalar) uniform Push {
+    uint count;
+    uint anyHit;
+    uint raysPerInvocation;
+} push;
 
 #include "common/scene.glsl"
 
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= push.count) return;
+bool startRay(uint i, out BvhTraversal t) {
+#ifdef BVH_COUNT_STEPS
+    bvhInteriorSteps = 0u;
+    bvhTriangleSteps = 0u;
+#endif
     BvhQuery q = queries[i];
-    Hit hit;
+    return bvhBegin(q.origin, q.direction, q.tMax, push.anyHit != 0u, t);
+}
+
+void finishRay(uint i, BvhTraversal t) {
+    Hit hit = t.hit;
     if (push.anyHit != 0u) {
-        hit.t = traceAny(q.origin, q.direction, q.tMax) ? 0.0 : q.tMax;
-        hit.triangle = 0u;
-        hit.b1 = 0.0;
-        hit.b2 = 0.0;
-    } else if (!traceClosest(q.origin, q.direction, q.tMax, hit)) {
-        hit.triangle = BVH_NO_HIT;
+        hit = Hit(t.found ? 0.0 : t.hit.t, 0u, 0.0, 0.0);
     }
 #ifdef BVH_COUNT_STEPS
     hit.b1 = uintBitsToFloat(bvhInteriorSteps);
     hit.b2 = uintBitsToFloat(bvhTriangleSteps);
 #endif
     hits[i] = hit;
+}
+
+void main() {
+    uint P = max(push.raysPerInvocation, 1u);
+    uint N = (push.count + P - 1u) / P;
+    uint ray = gl_GlobalInvocationID.x;
+    if (ray >= N) return;
+    BvhTraversal t;
+    bool running = startRay(ray, t);
+    // Each ray takes fewer steps than the BVH has texels (bvh.glsl), plus one to finish it.
+    uint steps = P * (uint(textureSize(bvhTexels)) + 1u);
+    for (uint step = 0u; step < steps; ++step) {
+        if (running) {
+            running = bvhStep(t);
+        }
+        if (!running) {
+            finishRay(ray, t);
+            ray += N;
+            if (ray >= push.count) break;
+            running = startRay(ray, t);
+        }
+    }
 }

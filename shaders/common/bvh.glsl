@@ -86,131 +86,174 @@ bool bvhIntersectTriangle(vec4 v0, vec3 e1, vec3 e2, vec3 origin, vec3 dir, inou
 // its triangles: address of the next one * 8 + how many are left.
 uint bvhNodeRef(uvec4 lo, uvec4 hi) { return (lo.w << 3) | hi.w; }
 
-// Near-child-first traversal; with anyHit it returns at the first hit. An interior step tests
-// both child boxes, descends into the nearer and pushes the farther; a leaf step tests one
-// triangle.
-bool bvhTraverse(vec3 origin, vec3 dir, bool anyHit, inout Hit hit) {
-    vec3 invDir = bvhSafeInverse(dir);
+// The stack below the traversal's eight register entries (on lavapipe a local array indexed
+// per lane is a scatter or gather on every access). One per invocation: an invocation runs one
+// traversal at a time.
+uint bvhStackSpill[BVH_MAX_DEPTH];
+
+// A traversal in progress: near-child-first, with anyHit it ends at the first hit. bvhBegin
+// starts one, each bvhStep takes one step (an interior step tests both child boxes, descends
+// into the nearer and pushes the farther; a leaf step tests one triangle), so that a kernel can
+// run the steps of several rays in turn in one loop (trace_rays.glsl) as well as one ray's.
+struct BvhTraversal {
+    vec3 origin;
+    vec3 dir;
+    vec3 invDir;
+    Hit hit;          // the closest hit so far; its t bounds the search
+    uint ref;         // the next step's node or triangle (bvhNodeRef)
+    uint stackSize;
+    // The stack's top eight entries, in registers.
+    uint top0;
+    uint top1;
+    uint top2;
+    uint top3;
+    uint top4;
+    uint top5;
+    uint top6;
+    uint top7;
+    bool anyHit;
+    bool found;       // a triangle was hit
+};
+
+// Starts the traversal of origin + t dir for hits with 0 < t < tMax. Returns false when the
+// ray misses the root box: the traversal has then already ended, with found == false.
+bool bvhBegin(vec3 origin, vec3 dir, float tMax, bool anyHit, out BvhTraversal t) {
+    t.origin = origin;
+    t.dir = dir;
+    t.invDir = bvhSafeInverse(dir);
+    t.hit = Hit(tMax, BVH_NO_HIT, 0.0, 0.0);
+    t.stackSize = 0u;
+    t.top0 = 0u;
+    t.top1 = 0u;
+    t.top2 = 0u;
+    t.top3 = 0u;
+    t.top4 = 0u;
+    t.top5 = 0u;
+    t.top6 = 0u;
+    t.top7 = 0u;
+    t.anyHit = anyHit;
+    t.found = false;
     uvec4 rootLo = bvhTexel(0u);
     uvec4 rootHi = bvhTexel(1u);
+    t.ref = bvhNodeRef(rootLo, rootHi);
     float tEntry;
-    if (!bvhIntersectBox(uintBitsToFloat(rootLo.xyz), uintBitsToFloat(rootHi.xyz), origin,
-                         invDir, hit.t, tEntry)) {
+    return bvhIntersectBox(uintBitsToFloat(rootLo.xyz), uintBitsToFloat(rootHi.xyz), origin,
+                           t.invDir, tMax, tEntry);
+}
+
+// One step of traversal t. Returns false when the traversal has ended (t.found and t.hit are
+// then final).
+bool bvhStep(inout BvhTraversal t) {
+    uint count = t.ref & 7u;
+    uint address = t.ref >> 3;
+#ifdef BVH_COUNT_STEPS
+    if (count > 0u) {
+        ++bvhTriangleSteps;
+    } else {
+        ++bvhInteriorSteps;
+    }
+#endif
+    // The same four fetches in every lane: two child records, or a triangle (the fourth
+    // fetch repeats its first texel, so it never reads past the last triangle).
+    uvec4 w0 = bvhTexel(address);
+    uvec4 w1 = bvhTexel(address + 1u);
+    uvec4 w2 = bvhTexel(address + 2u);
+    uvec4 w3 = bvhTexel(count > 0u ? address : address + 3u);
+    bool next = false;  // t.ref is set to the next node or triangle
+    if (count > 0u) {
+        if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1.xyz),
+                                 uintBitsToFloat(w2.xyz), t.origin, t.dir, t.hit)) {
+            t.found = true;
+        }
+        if (count > 1u) {
+            t.ref = ((address + 3u) << 3) | (count - 1u);
+            next = true;
+        }
+    } else {
+        float tLeft;
+        float tRight;
+        bool hitLeft = bvhIntersectBox(uintBitsToFloat(w0.xyz), uintBitsToFloat(w1.xyz),
+                                       t.origin, t.invDir, t.hit.t, tLeft);
+        bool hitRight = bvhIntersectBox(uintBitsToFloat(w2.xyz), uintBitsToFloat(w3.xyz),
+                                        t.origin, t.invDir, t.hit.t, tRight);
+        uint leftRef = bvhNodeRef(w0, w1);
+        uint rightRef = bvhNodeRef(w2, w3);
+        if (hitLeft && hitRight) {
+            bool leftFirst = tLeft <= tRight;
+            if (t.stackSize < BVH_MAX_DEPTH) {
+                if (t.stackSize >= 8u) {
+                    bvhStackSpill[t.stackSize - 8u] = t.top7;
+                }
+                t.top7 = t.top6;
+                t.top6 = t.top5;
+                t.top5 = t.top4;
+                t.top4 = t.top3;
+                t.top3 = t.top2;
+                t.top2 = t.top1;
+                t.top1 = t.top0;
+                t.top0 = leftFirst ? rightRef : leftRef;
+                ++t.stackSize;
+            }
+            t.ref = leftFirst ? leftRef : rightRef;
+            next = true;
+        } else if (hitLeft || hitRight) {
+            t.ref = hitLeft ? leftRef : rightRef;
+            next = true;
+        }
+    }
+    if (t.anyHit && t.found) {
         return false;
     }
-    // The stack's top eight entries live in registers, the rest in a local array (on lavapipe a
-    // local array indexed per lane is a scatter or gather on every access).
-    uint top0 = 0u;
-    uint top1 = 0u;
-    uint top2 = 0u;
-    uint top3 = 0u;
-    uint top4 = 0u;
-    uint top5 = 0u;
-    uint top6 = 0u;
-    uint top7 = 0u;
-    uint stackSpill[BVH_MAX_DEPTH];
-    uint stackSize = 0u;
-    uint ref = bvhNodeRef(rootLo, rootHi);
-    bool found = false;
-    uint texelCount = uint(textureSize(bvhTexels));
-#ifdef BVH_COUNT_STEPS
-    bvhInteriorSteps = 0u;
-    bvhTriangleSteps = 0u;
-#endif
-    for (uint step = 0u; step < texelCount; ++step) {
-        uint count = ref & 7u;
-        uint address = ref >> 3;
-#ifdef BVH_COUNT_STEPS
-        if (count > 0u) {
-            ++bvhTriangleSteps;
-        } else {
-            ++bvhInteriorSteps;
-        }
-#endif
-        // The same four fetches in every lane: two child records, or a triangle (the fourth
-        // fetch repeats its first texel, so it never reads past the last triangle).
-        uvec4 w0 = bvhTexel(address);
-        uvec4 w1 = bvhTexel(address + 1u);
-        uvec4 w2 = bvhTexel(address + 2u);
-        uvec4 w3 = bvhTexel(count > 0u ? address : address + 3u);
-        if (count > 0u) {
-            if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1.xyz),
-                                     uintBitsToFloat(w2.xyz), origin, dir, hit)) {
-                if (anyHit) {
-                    return true;
-                }
-                found = true;
+    if (next) {
+        return true;
+    }
+    // Pop the next subtree. Unlike Bvh::traverse, no entry distance is kept to skip subtrees
+    // beyond the closest hit when popped: the popped node's children are culled by their boxes
+    // in the next step anyway, and on lavapipe the second stack array and the skipping loop
+    // cost more than that step (measured: 30-45% more rays/s without).
+    if (t.stackSize == 0u) {
+        return false;
+    }
+    t.ref = t.top0;
+    t.top0 = t.top1;
+    t.top1 = t.top2;
+    t.top2 = t.top3;
+    t.top3 = t.top4;
+    t.top4 = t.top5;
+    t.top5 = t.top6;
+    t.top6 = t.top7;
+    --t.stackSize;
+    if (t.stackSize >= 8u) {
+        t.top7 = bvhStackSpill[t.stackSize - 8u];
+    }
+    return true;
+}
+
+// The whole traversal of one ray. Each step visits one interior node or one triangle and none
+// twice, so the loop runs fewer than textureSize(bvhTexels) times.
+bool bvhTraverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
+    BvhTraversal t;
+    if (bvhBegin(origin, dir, tMax, anyHit, t)) {
+        uint texelCount = uint(textureSize(bvhTexels));
+        for (uint step = 0u; step < texelCount; ++step) {
+            if (!bvhStep(t)) {
+                break;
             }
-            if (count > 1u) {
-                ref = ((address + 3u) << 3) | (count - 1u);
-                continue;
-            }
-        } else {
-            float tLeft;
-            float tRight;
-            bool hitLeft = bvhIntersectBox(uintBitsToFloat(w0.xyz), uintBitsToFloat(w1.xyz),
-                                           origin, invDir, hit.t, tLeft);
-            bool hitRight = bvhIntersectBox(uintBitsToFloat(w2.xyz), uintBitsToFloat(w3.xyz),
-                                            origin, invDir, hit.t, tRight);
-            uint leftRef = bvhNodeRef(w0, w1);
-            uint rightRef = bvhNodeRef(w2, w3);
-            if (hitLeft && hitRight) {
-                bool leftFirst = tLeft <= tRight;
-                if (stackSize < BVH_MAX_DEPTH) {
-                    if (stackSize >= 8u) {
-                        stackSpill[stackSize - 8u] = top7;
-                    }
-                    top7 = top6;
-                    top6 = top5;
-                    top5 = top4;
-                    top4 = top3;
-                    top3 = top2;
-                    top2 = top1;
-                    top1 = top0;
-                    top0 = leftFirst ? rightRef : leftRef;
-                    ++stackSize;
-                }
-                ref = leftFirst ? leftRef : rightRef;
-                continue;
-            }
-            if (hitLeft || hitRight) {
-                ref = hitLeft ? leftRef : rightRef;
-                continue;
-            }
-        }
-        // Pop the next subtree. Unlike Bvh::traverse, no entry distance is kept to skip
-        // subtrees beyond the closest hit when popped: the popped node's children are culled
-        // by their boxes in the next step anyway, and on lavapipe the second stack array and
-        // the skipping loop cost more than that step (measured: 30-45% more rays/s without).
-        if (stackSize == 0u) {
-            break;
-        }
-        ref = top0;
-        top0 = top1;
-        top1 = top2;
-        top2 = top3;
-        top3 = top4;
-        top4 = top5;
-        top5 = top6;
-        top6 = top7;
-        --stackSize;
-        if (stackSize >= 8u) {
-            top7 = stackSpill[stackSize - 8u];
         }
     }
-    return found;
+    hit = t.hit;
+    return t.found;
 }
 
 // Closest hit with 0 < t < tMax. On a miss returns false with hit = {tMax, BVH_NO_HIT, 0, 0}.
 bool traceClosest(vec3 origin, vec3 dir, float tMax, out Hit hit) {
-    hit = Hit(tMax, BVH_NO_HIT, 0.0, 0.0);
-    return bvhTraverse(origin, dir, false, hit);
+    return bvhTraverse(origin, dir, tMax, false, hit);
 }
 
 // Whether any triangle is hit with 0 < t < tMax (shadow rays).
 bool traceAny(vec3 origin, vec3 dir, float tMax) {
-    Hit hit = Hit(tMax, BVH_NO_HIT, 0.0, 0.0);
-    return bvhTraverse(origin, dir, true, hit);
+    Hit hit;
+    return bvhTraverse(origin, dir, tMax, true, hit);
 }
 
 #endif  // PMCR_COMMON_BVH_GLSL

@@ -63,20 +63,32 @@ PathState pathBegin(vec2 raster, uint recordIndex) {
     return p;
 }
 
-// One bounce: traces the path's next ray, adds the emission found there and one light sample
-// (next-event estimation), then samples the BSDF for the next ray. Returns false when the path
-// has ended (escaped, absorbed, maxDepth reached or stopped by Russian roulette); p.L is then
-// final. A path takes at most maxDepth + 1 bounces.
-bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDepth,
-                inout uint rays) {
-    Hit hit;
-    rays += 1u;
-    if (!traceClosest(p.origin, p.dir, FLOAT_MAX, hit)) return false;
+// The light sample of one bounce (next-event estimation): what it adds to the path's radiance
+// when its shadow ray reaches the light unoccluded.
+struct LightConnection {
+    ShadowRay ray;
+    vec3 contribution;  // beta f |cos| Le w / pdf, MIS-weighted against BSDF sampling
+    bool valid;         // false: no light sample (delta BSDF, last bounce, zero contribution)
+};
+
+// The part of a bounce after its ray's closest hit (hit.triangle == BVH_NO_HIT: the ray
+// escaped, the path ends): adds the emission found there, draws one light sample (its shadow
+// ray is the caller's to trace, `light`), then samples the BSDF for the next ray (p.origin,
+// p.dir) and applies Russian roulette. Returns false when the path has ended (escaped,
+// absorbed, maxDepth reached or stopped by Russian roulette); its light sample may still count.
+// With PT_RECORD_PATHS, `pv` is the vertex record but for the light sample's visibility.
+bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uint rrDepth,
+               out LightConnection light
+#ifdef PT_RECORD_PATHS
+               , out PathVertex pv
+#endif
+               ) {
+    light.valid = false;
+    if (hit.triangle == BVH_NO_HIT) return false;
     SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
     vec3 wo = -p.dir;
     ShadingPoint sh = makeShadingPoint(s, wo);
 #ifdef PT_RECORD_PATHS
-    PathVertex pv;
     pv.position = s.position;
     pv.triangle = s.triangle;
     pv.normal = s.normal;
@@ -93,7 +105,6 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
     pv.implicitContribution = vec3(0.0);
     pv.lightB2 = 0.0;
 #endif
-
     // Emission at the hit, MIS-weighted against light sampling unless reached by a delta.
     vec3 Le = emittedRadiance(s, wo);
     if (maxComponent(Le) > 0.0) {
@@ -111,7 +122,6 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
 #endif
     }
     bool stop = p.depth == maxDepth;
-
     // Next-event estimation: one light sample, MIS-weighted against BSDF sampling.
     float uLight = samplerGet1D(smp);
     vec2 uLightPoint = samplerGet2D(smp);
@@ -125,21 +135,19 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
         if (maxComponent(Lemit) > 0.0 && pdfLight > 0.0) {
             float pdfBsdf, absCos;
             vec3 f = shadingEval(sh, wi, pdfBsdf, absCos);
-            if (maxComponent(f) > 0.0 && visible(sh, ls.point, rays)) {
-                vec3 contribution = p.beta * f * absCos * Lemit * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
-                p.L += contribution;
+            if (maxComponent(f) > 0.0) {
+                light.ray = shadowRay(sh, ls.point);
+                light.contribution = p.beta * f * absCos * Lemit * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
+                light.valid = true;
 #ifdef PT_RECORD_PATHS
-                pv.flags |= VERTEX_HAS_LIGHT_SAMPLE;
                 pv.lightPosition = ls.point.position;
                 pv.lightTriangle = ls.point.triangle;
                 pv.lightB1 = ls.barycentrics.x;
                 pv.lightB2 = ls.barycentrics.y;
-                pv.explicitContribution = contribution;
 #endif
             }
         }
     }
-
     // Continue the path by sampling the BSDF.
     float uLobe = samplerGet1D(smp);
     vec2 uDir = samplerGet2D(smp);
@@ -153,8 +161,6 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
         if (bs.delta) pv.flags |= VERTEX_SPECULAR;
         if (bs.wi.z < 0.0) pv.flags |= VERTEX_TRANSMISSION;
     }
-    pathVertices[p.firstVertex + p.vertexCount] = pv;
-    p.vertexCount += 1u;
 #endif
     if (!scattered) return false;
     p.beta *= bs.f * abs(bs.wi.z) / bs.pdf;
@@ -164,7 +170,6 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
     p.prevPosition = s.position;
     p.origin = spawnOrigin(sh, wi);
     p.dir = wi;
-
     // Russian roulette on the throughput without the eta^2 factors (pbrt-v4).
     float uRoulette = samplerGet1D(smp);
     if (p.depth + 1u >= rrDepth) {
@@ -178,6 +183,49 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
     if (maxComponent(p.beta) <= 0.0) return false;
     p.depth += 1u;
     return true;
+}
+
+// One bounce: traces the path's next ray, shades its hit (pathShade) and traces the light
+// sample's shadow ray. Returns false when the path has ended; p.L is then final. A path takes
+// at most maxDepth + 1 bounces.
+bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDepth,
+                inout uint rays) {
+    Hit hit;
+    rays += 1u;
+    traceClosest(p.origin, p.dir, FLOAT_MAX, hit);
+    LightConnection light;
+#ifdef PT_RECORD_PATHS
+    PathVertex pv;
+    bool hitSurface = hit.triangle != BVH_NO_HIT;
+    bool more = pathShade(p, hit, smp, maxDepth, rrDepth, light, pv);
+#else
+    bool more = pathShade(p, hit, smp, maxDepth, rrDepth, light);
+#endif
+    if (light.valid) {
+        rays += 1u;
+        if (!traceAny(light.ray.origin, light.ray.dir, light.ray.tMax)) {
+            p.L += light.contribution;
+#ifdef PT_RECORD_PATHS
+            pv.flags |= VERTEX_HAS_LIGHT_SAMPLE;
+            pv.explicitContribution = light.contribution;
+#endif
+        }
+    }
+#ifdef PT_RECORD_PATHS
+    if ((pv.flags & VERTEX_HAS_LIGHT_SAMPLE) == 0u) {  // a record keeps visible light samples only
+        pv.lightPosition = vec3(0.0);
+        pv.lightTriangle = 0u;
+        pv.lightB1 = 0.0;
+        pv.lightB2 = 0.0;
+    }
+#endif
+#ifdef PT_RECORD_PATHS
+    if (hitSurface) {
+        pathVertices[p.firstVertex + p.vertexCount] = pv;
+        p.vertexCount += 1u;
+    }
+#endif
+    return more;
 }
 
 // The most bounces a path may take: maxDepth, or fewer when every vertex is recorded.

@@ -213,9 +213,9 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
 
     ShadowRay ray = d.fromLight ? shadowRay(sh, d.lightPoint)
                                 : ShadowRay(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX);
-    Hit hit = Hit(ray.tMax, BVH_NO_HIT, 0.0, 0.0);
+    Hit hit;
     rays += 1u;
-    bool found = bvhTraverse(ray.origin, ray.dir, d.fromLight, hit);
+    bool found = bvhTraverse(ray.origin, ray.dir, ray.tMax, d.fromLight, hit);
     if (d.fromLight == found) return true;  // the sampled point occluded, or nothing seen
     SurfacePoint l = surfaceAt(d.fromLight ? d.lightPoint.triangle : hit.triangle,
                                d.fromLight ? d.lightBarycentrics : vec2(hit.b1, hit.b2));
