@@ -25,6 +25,13 @@ struct TracePush {
     uint32_t count;
 };
 
+// shaders/bench/trace_rays.comp's push constants.
+struct RayListPush {
+    uint32_t count;
+    uint32_t anyHit;
+    uint32_t raysPerInvocation;
+};
+
 glm::vec3 randomDirection(std::mt19937& rng) {
     std::normal_distribution<float> n(0.0f, 1.0f);
     for (;;) {
@@ -195,6 +202,34 @@ TEST_F(BvhTraversal, DragonMatchesHost) {
     const Scene scene = loadScene(sourcePath("scenes/dragon-direct.gltf"));
     ASSERT_GT(scene.triangles.size(), 200000u);
     expectMatchesHost(scene, randomRays(scene, 20000, 13), 0.0);
+}
+
+// Rays in turn (bvhBegin / bvhStep, shaders/bench/trace_rays.glsl): an invocation that traces
+// several rays one after the other in one loop, its lanes starting their next ray as soon as
+// the last ends, gives every ray the same answer, bit for bit, as one ray per invocation.
+TEST_F(BvhTraversal, RaysInTurnMatchOneRayPerInvocation) {
+    const Scene scene = loadScene(sourcePath("scenes/cornell-spheres.glb"));
+    const GpuScene gpuScene(context(), layout(), scene, 0, 8, 8);
+    const auto rays = randomRays(scene, 5000, 21);
+    const uint32_t n = uint32_t(rays.size());
+    auto queries = storage(rays, "bvh queries");
+    for (const uint32_t anyHit : {0u, 1u}) {
+        std::vector<std::vector<gpu::Hit>> results;
+        for (const uint32_t perInvocation : {1u, 7u, 32u}) {
+            auto hits = zeros(size_t(n) * sizeof(gpu::Hit), "bvh hits");
+            run("bench/trace_rays", RayListPush{n, anyHit, perInvocation},
+                (n + perInvocation - 1) / perInvocation, {&queries, &hits},
+                &gpuScene.descriptorSet());
+            results.push_back(hits.download<gpu::Hit>(n));
+        }
+        for (size_t k = 1; k < results.size(); ++k)
+            for (uint32_t i = 0; i < n; ++i) {
+                const gpu::Hit& a = results[0][i];
+                const gpu::Hit& b = results[k][i];
+                ASSERT_TRUE(a.t == b.t && a.triangle == b.triangle && a.b1 == b.b1 && a.b2 == b.b2)
+                    << "anyHit " << anyHit << ", variant " << k << ", ray " << i;
+            }
+    }
 }
 
 }  // namespace
