@@ -65,4 +65,24 @@ double parseDouble(const std::string& option, const std::string& text, double mi
     return v;
 }
 
+bool parseEnvironmentOption(const std::string& a, Args& args, EnvironmentSpec& env) {
+    if (a == "--env") env.value = args.value(a);
+    else if (a == "--env-rotate") env.rotateDegrees = float(parseDouble(a, args.value(a), -36000, 36000));
+    else if (a == "--env-scale") env.scale = float(parseDouble(a, args.value(a), 0, 1e30));
+    else return false;
+    return true;
+}
+
+void checkEnvironmentOptions(const EnvironmentSpec& env) {
+    if (env.value.empty() && (env.rotateDegrees != 0.0f || env.scale != 1.0f))
+        throw Error("--env-rotate and --env-scale need --env");
+}
+
+const char* const kEnvironmentHelp =
+    "  --env R,G,B|FILE     environment light: a constant radiance, or an equirectangular HDR\n"
+    "                       image (.exr, .pfm, .hdr; +y up, centre column towards -z),\n"
+    "                       importance-sampled (pt, direct, pmc-ip, pmc-ip-direct, pmc-pt)\n"
+    "  --env-rotate DEG     rotate the environment about +y (default 0)\n"
+    "  --env-scale S        scale its radiance (default 1)\n";
+
 }  // namespace pmcr::cli

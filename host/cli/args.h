@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "scene/environment.h"
+
 namespace pmcr::cli {
 
 class Args {
@@ -30,5 +32,14 @@ private:
 uint32_t parseUint(const std::string& option, const std::string& text, uint32_t min, uint32_t max);
 int parseInt(const std::string& option, const std::string& text, int min, int max);
 double parseDouble(const std::string& option, const std::string& text, double min, double max);
+
+// Reads option `a` into `env` when it is --env, --env-rotate or --env-scale (render and bench
+// share them); false for any other option.
+bool parseEnvironmentOption(const std::string& a, Args& args, EnvironmentSpec& env);
+// Throws pmcr::Error for --env-rotate or --env-scale without --env.
+void checkEnvironmentOptions(const EnvironmentSpec& env);
+
+// The help lines of those options.
+extern const char* const kEnvironmentHelp;
 
 }  // namespace pmcr::cli

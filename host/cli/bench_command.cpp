@@ -49,17 +49,21 @@ void printBenchHelp() {
         "                       k = 1..N (default 8)\n"
         "  --width W --height H --seed S --max-depth D --rr-depth D --camera N\n"
         "                       as for render (default seed 1; size: the reference's)\n"
+        "%s"
         "  --device ID  --validate  -q, --quiet\n",
-        kDefaultDisplayWhite);
+        kDefaultDisplayWhite, kEnvironmentHelp);
 }
 
 int runBench(Args& args) {
     BenchOptions o;
     RenderSettings& s = o.base;
     std::optional<fs::path> scenePath, out;
+    EnvironmentSpec environment;
     while (!args.done()) {
         const std::string a = args.next();
-        if (a == "--methods")
+        if (parseEnvironmentOption(a, args, environment))
+            continue;
+        else if (a == "--methods")
             o.methods = parseBenchMethods(a, args.value(a));
         else if (a == "--time")
             s.timeLimit = parseDouble(a, args.value(a), 1e-3, 1e7);
@@ -118,7 +122,8 @@ int runBench(Args& args) {
         throw Error("bench: give --reference REF.exr, or --reference-spp N to render one");
     checkBenchOutputDir(*out);
     log::setQuiet(s.quiet);
-    Scene scene = loadScene(*scenePath);
+    checkEnvironmentOptions(environment);
+    Scene scene = loadScene(*scenePath, environment);
     BenchReport report = prepareBench(scene, o);
 
     vk::ContextOptions contextOptions;

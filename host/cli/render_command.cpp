@@ -36,6 +36,7 @@ RenderCommand parseRenderCommand(Args& args) {
         else if (a == "--validate") s.validate = true;
         else if (a == "--stats") c.stats = true;
         else if (a == "--quiet" || a == "-q") s.quiet = true;
+        else if (parseEnvironmentOption(a, args, c.environment)) continue;
         else if (a.rfind("--", 0) == 0 && a.size() > 2) {
             // A method's option. Check the name before taking a value, so that an unknown flag
             // is named as such instead of swallowing the next argument.
@@ -55,6 +56,7 @@ RenderCommand parseRenderCommand(Args& args) {
         }
     }
     if (!sceneSeen) throw Error("render: missing SCENE (a .gltf or .glb file)");
+    checkEnvironmentOptions(c.environment);
     if (c.png && c.noPng) throw Error("--png and --no-png contradict each other");
     validateMethodOptions(s);
     // Creating the integrator parses its option values and touches no device: a bad value
@@ -69,7 +71,7 @@ int runRender(const RenderCommand& command) {
     // Check the outputs before spending any time: a bad path fails at once.
     OutputPaths paths = resolveOutputPaths(command.scene, command.output, command.png,
                                            command.noPng, command.exposure);
-    Scene scene = loadScene(command.scene);
+    Scene scene = loadScene(command.scene, command.environment);
     resolveImageSize(scene, settings);
 
     vk::ContextOptions options;
@@ -135,6 +137,7 @@ void printRenderHelp() {
         "  --max-depth D        maximum bounces, 1 = direct lighting (default 16)\n"
         "  --rr-depth D         Russian roulette from this bounce on (default 3)\n"
         "  --camera N           use the scene's N-th camera (default 0)\n"
+        "%s"
         "  -o, --output FILE    HDR output, .exr or .pfm (default: SCENE-NAME.exr here)\n"
         "  --png FILE           PNG preview path (default: beside the output)\n"
         "  --no-png             no PNG preview\n"
@@ -146,7 +149,8 @@ void printRenderHelp() {
         "\n"
         "Ctrl-C stops the render and still writes the image so far (exit status 130).\n"
         "\n"
-        "methods:\n");
+        "methods:\n",
+        kEnvironmentHelp);
     for (const auto& m : methods()) {
         std::printf("  %-14s %s%s\n", m.name.c_str(), m.summary.c_str(),
                     m.create ? "" : (" [not implemented yet: " + m.plannedIn + "]").c_str());

@@ -11,6 +11,7 @@ namespace pmcr::cli {
 
 struct RenderCommand {
     std::filesystem::path scene;
+    EnvironmentSpec environment;
     RenderSettings settings;
     std::optional<std::filesystem::path> output;
     std::optional<std::filesystem::path> png;

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "scene/environment.h"
 
 namespace pmcr {
 
@@ -39,6 +40,24 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     // The group of all emitters is buildEmitters' table, so its power is the emitters' total.
     m_info.totalEmitterPower = m_lightGroups.allEmitters.power;
 
+    // The environment light, picked by light sampling in proportion to its power.
+    const Environment& env = scene.environment;
+    m_info.envKind = env.kind;
+    m_info.envRadiance = env.kind == gpu::ENV_CONSTANT ? env.radiance : glm::vec3(env.scale);
+    m_info.envRotation = env.rotation;
+    m_info.envWidth = uint32_t(env.image.width);
+    m_info.envHeight = uint32_t(env.image.height);
+    m_info.envSelectPmf = 0.0f;
+    if (env.kind != gpu::ENV_NONE) {
+        const double envPower = environmentPower(env, m_info.sceneRadius);
+        const double emitterPower = m_info.totalEmitterPower;
+        m_info.envSelectPmf = emitterPower > 0.0 ? float(envPower / (envPower + emitterPower)) : 1.0f;
+        if (!(m_info.envSelectPmf > 0.0f)) m_info.envSelectPmf = emitterPower > 0.0 ? 0.0f : 1.0f;
+    }
+    std::vector<glm::vec4> envTexels;
+    for (int y = 0; y < env.image.height; ++y)
+        for (int x = 0; x < env.image.width; ++x) envTexels.emplace_back(env.image.at(x, y), 0.0f);
+
     std::vector<gpu::TextureInfo> textureInfos;
     std::vector<uint32_t> texels;
     for (const Texture& t : scene.textures) {
@@ -65,6 +84,9 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
             vk::Buffer::storage(context, m_lightGroups.triangleLight, "triangle light buffer");
         m_textureInfos = vk::Buffer::storage(context, textureInfos, "texture table");
         m_texels = vk::Buffer::storage(context, texels, "texture buffer");
+        m_envTexels = vk::Buffer::texels(context, envTexels, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                         "environment texels");
+        m_envAlias = uintTexels(environmentAliasTable(env), "environment alias table");
     } catch (const Error& e) {
         fail(scene.path.string(), std::string("scene too large for the device: ") + e.what());
     }
@@ -80,6 +102,8 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_set->bind(gpu::BINDING_TRIANGLE_LIGHTS, m_triangleLightBuffer);
     m_set->bind(gpu::BINDING_TEXTURE_INFOS, m_textureInfos);
     m_set->bind(gpu::BINDING_TEXELS, m_texels);
+    m_set->bind(gpu::BINDING_ENV_TEXELS, m_envTexels);
+    m_set->bind(gpu::BINDING_ENV_ALIAS, m_envAlias);
 }
 
 }  // namespace pmcr

@@ -42,6 +42,8 @@ private:
     vk::Buffer m_triangleLightBuffer;
     vk::Buffer m_textureInfos;
     vk::Buffer m_texels;
+    vk::Buffer m_envTexels;
+    vk::Buffer m_envAlias;
     std::unique_ptr<vk::DescriptorSet> m_set;
 };
 

@@ -239,7 +239,9 @@ bool isUnsignedIndexType(int componentType) {
 
 class GltfLoader {
 public:
-    explicit GltfLoader(const fs::path& path) : m_path(path), m_file(path.string()) {}
+    GltfLoader(const fs::path& path, Environment environment) : m_path(path), m_file(path.string()) {
+        m_scene.environment = std::move(environment);
+    }
     Scene load();
 
 private:
@@ -1252,9 +1254,10 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
 
 }  // namespace
 
-Scene loadScene(const std::filesystem::path& path) {
+Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment) {
+    Environment env = loadEnvironment(environment);
     try {
-        return GltfLoader(path).load();
+        return GltfLoader(path, std::move(env)).load();
     } catch (const Error&) {
         throw;
     } catch (const std::bad_alloc&) {

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "scene/environment.h"
 #include "scene/scene.h"
 
 namespace pmcr {
@@ -12,6 +13,7 @@ namespace pmcr {
 // baseColor textures and perspective cameras, then calls finalizeScene. Every index, range and
 // value read is validated; bad input throws pmcr::Error "<file>: <problem>" (one line), input
 // pmcr only partly supports gives one warning per kind.
-Scene loadScene(const std::filesystem::path& path);
+// `environment` (--env) lights the scene too; a scene needs emitters or an environment.
+Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment = {});
 
 }  // namespace pmcr

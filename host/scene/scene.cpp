@@ -42,10 +42,6 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
     return triangleArea(scene, t) * luminance(m.emission) * glm::pi<float>() * sides;
 }
 
-namespace {
-
-// Fills pmf, aliasThreshold and alias of `table` (one entry per element of `power`, alias
-// indices relative to the table's start) and returns the total power.
 // Vose's alias method (Vose 1991, "A linear algorithm for generating random numbers with a
 // given distribution"): pair each under-full slot with an over-full donor.
 double buildAliasTable(const std::vector<double>& power, gpu::Emitter* table) {
@@ -81,6 +77,8 @@ double buildAliasTable(const std::vector<double>& power, gpu::Emitter* table) {
     }
     return total;
 }
+
+namespace {
 
 // Union-find with path halving.
 uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
@@ -230,9 +228,9 @@ void finalizeScene(Scene& scene) {
             break;
         }
     }
-    if (!anyEmitter) {
-        fail(file,
-             "no emitters: the scene has no emissive triangles (pmcr renders only area lights)");
+    if (!anyEmitter && scene.environment.kind == gpu::ENV_NONE) {
+        fail(file, "no emitters: the scene has no emissive triangles (light it with --env R,G,B "
+                   "or --env FILE, an environment light)");
     }
 
     scene.boundsMin = glm::vec3(INFINITY);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "image/image.h"
 #include "shared/host_device.h"
 
 namespace pmcr {
@@ -30,6 +31,17 @@ struct Texture {
     std::vector<uint32_t> rgba8;
 };
 
+// The environment light (--env; host/scene/environment.h): radiance arriving from infinitely
+// far, a constant or an equirectangular (latitude-longitude) image with +y up, rotated about +y.
+struct Environment {
+    std::string source;            // what --env named, for messages; empty: no environment
+    uint32_t kind = gpu::ENV_NONE;
+    glm::vec3 radiance{0.0f};      // ENV_CONSTANT: the radiance, scale applied
+    Image image;                   // ENV_IMAGE: RGB radiance, scale not applied
+    float scale = 1.0f;
+    float rotation = 0.0f;         // radians about +y
+};
+
 struct Scene {
     std::filesystem::path path;            // the file it was loaded from
     std::vector<gpu::Vertex> vertices;     // world space
@@ -44,6 +56,7 @@ struct Scene {
     int paperHeight = 0;
     glm::vec3 boundsMin{0.0f};
     glm::vec3 boundsMax{0.0f};
+    Environment environment;               // set before finalizeScene (loadScene's EnvironmentSpec)
 };
 
 // Emitters: every triangle whose material has non-zero emission, in a Walker alias table over
@@ -53,6 +66,11 @@ struct EmitterTable {
     float totalPower = 0.0f;
 };
 EmitterTable buildEmitters(const Scene& scene);
+
+// Fills pmf, aliasThreshold and alias of `table` (one entry per element of `power`, alias
+// indices relative to the table's start; `triangle` is left to the caller) and returns the
+// total power: a Walker alias table (shaders/common/scene.glsl aliasTableTriangle).
+double buildAliasTable(const std::vector<double>& power, gpu::Emitter* table);
 
 // Lights as the adaptive direct-lighting sampler (PMC-HI) sees them: the emitters grouped into
 // connected components (triangles sharing a vertex position, union-find), each with an alias
@@ -73,7 +91,7 @@ LightGroupTable buildLightGroups(const Scene& scene);
 float emitterPower(const Scene& scene, uint32_t triangle);
 
 // Recomputes bounds; throws pmcr::Error naming scene.path for NaN/Inf positions, no triangles
-// or no emitters; drops zero-area triangles with one warning.
+// or no light (no emitters and no environment); drops zero-area triangles with one warning.
 void finalizeScene(Scene& scene);
 
 float luminance(const glm::vec3& rgb);  // Rec. 709 / sRGB primaries

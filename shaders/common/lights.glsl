@@ -5,6 +5,7 @@
 #ifndef PMCR_LIGHTS_GLSL
 #define PMCR_LIGHTS_GLSL
 
+#include "common/environment.glsl"
 #include "common/sampling.glsl"
 #include "common/scene.glsl"
 
@@ -20,12 +21,19 @@ float emitterPowerPerArea(uint tri) {
 // Power of an emitter triangle: area * luminance(Le) * pi * (2 if double-sided).
 float emitterPower(uint tri) { return triangleArea(tri) * emitterPowerPerArea(tri); }
 
+// Probability that light sampling picks an emitter triangle rather than the environment.
+float emittersSelectPmf() { return hasEnvironment() ? 1.0 - sceneInfo.envSelectPmf : 1.0; }
+
 // Probability of selecting triangle `tri` when sampling lights.
-float emitterSelectPmf(uint tri) { return emitterPower(tri) / sceneInfo.totalEmitterPower; }
+float emitterSelectPmf(uint tri) {
+    return emitterPower(tri) / sceneInfo.totalEmitterPower * emittersSelectPmf();
+}
 
 // Density, per unit area of the emitter, of light sampling producing a point on triangle `tri`:
 // the selection probability over the area, in which the area cancels (no vertex is read).
-float emitterAreaPdf(uint tri) { return emitterPowerPerArea(tri) / sceneInfo.totalEmitterPower; }
+float emitterAreaPdf(uint tri) {
+    return emitterPowerPerArea(tri) / sceneInfo.totalEmitterPower * emittersSelectPmf();
+}
 
 struct LightSample {
     SurfacePoint point;
@@ -60,7 +68,13 @@ uint lightGroupTriangle(uint group, float u) {
 }
 
 // Picks an emitter with uSelect (the alias table of all emitters) and a point on it with uPoint.
+// With an environment, the caller has picked the emitters with uSelect in
+// [envSelectPmf, 1), which is stretched back to [0, 1).
 LightSample sampleLight(float uSelect, vec2 uPoint) {
+    if (hasEnvironment() && sceneInfo.envSelectPmf < 1.0) {
+        uSelect = clamp((uSelect - sceneInfo.envSelectPmf) / (1.0 - sceneInfo.envSelectPmf), 0.0,
+                        ONE_MINUS_EPSILON);
+    }
     uint tri = lightGroupTriangle(sceneInfo.lightCount, uSelect);
     return lightSampleOn(tri, uPoint, emitterAreaPdf(tri));
 }

@@ -10,6 +10,7 @@
 #define PMCR_PATH_TRACER_GLSL
 
 #include "common/camera.glsl"
+#include "common/environment.glsl"
 #include "common/lights.glsl"
 #include "common/sampler.glsl"
 #include "common/shading.glsl"
@@ -63,6 +64,51 @@ PathState pathBegin(vec2 raster, uint recordIndex) {
     return p;
 }
 
+// A light sample seen from shading point sh: an emitter point or an environment direction.
+struct LightSampleFrom {
+    vec3 wi;            // towards the light
+    vec3 Le;            // radiance arriving along wi (before visibility)
+    float pdf;          // solid-angle density, light selection included; 0: no sample
+    ShadowRay ray;      // the segment that must be clear
+    LightSample area;   // the emitter point (when !fromEnvironment)
+    bool fromEnvironment;
+};
+
+// Next-event estimation's light sample: with an environment, uLight < envSelectPmf picks it (a
+// direction by envSample), else an emitter triangle by power and a uniform point on it.
+LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint) {
+    LightSampleFrom ls;
+    ls.fromEnvironment = hasEnvironment() && uLight < sceneInfo.envSelectPmf;
+    if (ls.fromEnvironment) {
+        EnvSample e = envSample(min(uLight / sceneInfo.envSelectPmf, ONE_MINUS_EPSILON), uLightPoint);
+        ls.wi = e.wi;
+        ls.Le = e.Le;
+        ls.pdf = e.pdf * sceneInfo.envSelectPmf;
+        ls.ray = ShadowRay(spawnOrigin(sh, e.wi), e.wi, FLOAT_MAX);
+        return ls;
+    }
+    vec3 position = sh.surface.position;
+    ls.area = sampleLight(uLight, uLightPoint);
+    vec3 toLight = ls.area.point.position - position;
+    float dist2 = dot(toLight, toLight);
+    ls.wi = toLight * inversesqrt(dist2);
+    ls.Le = emittedRadiance(ls.area.point, -ls.wi);
+    ls.pdf = areaToSolidAngle(ls.area.pdfArea, position, ls.area.point.position,
+                              ls.area.point.normal);
+    ls.ray = shadowRay(sh, ls.area.point);
+    return ls;
+}
+
+// Radiance of the environment seen along a ray that escaped the scene, MIS-weighted against
+// light sampling (the environment's share of it) unless the ray's direction came from a delta
+// (or from the camera): the escaped-ray term of pbrt-v4's PathIntegrator.
+vec3 escapedRadiance(vec3 dir, bool prevDelta, float prevPdf) {
+    if (!hasEnvironment()) return vec3(0.0);
+    vec3 Le = envRadiance(dir);
+    if (prevDelta) return Le;
+    return Le * powerHeuristic(prevPdf, envPdf(dir) * sceneInfo.envSelectPmf);
+}
+
 // The light sample of one bounce (next-event estimation): what it adds to the path's radiance
 // when its shadow ray reaches the light unoccluded.
 struct LightConnection {
@@ -84,7 +130,10 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
 #endif
                ) {
     light.valid = false;
-    if (hit.triangle == BVH_NO_HIT) return false;
+    if (hit.triangle == BVH_NO_HIT) {
+        p.L += p.beta * escapedRadiance(p.dir, p.prevDelta, p.prevPdf);
+        return false;
+    }
     SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
     vec3 wo = -p.dir;
     ShadingPoint sh = makeShadingPoint(s, wo);
@@ -126,24 +175,19 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
     float uLight = samplerGet1D(smp);
     vec2 uLightPoint = samplerGet2D(smp);
     if (!stop && bsdfHasNonDelta(sh.bsdf)) {
-        LightSample ls = sampleLight(uLight, uLightPoint);
-        vec3 toLight = ls.point.position - s.position;
-        float dist2 = dot(toLight, toLight);
-        vec3 wi = toLight * inversesqrt(dist2);
-        vec3 Lemit = emittedRadiance(ls.point, -wi);
-        float pdfLight = areaToSolidAngle(ls.pdfArea, s.position, ls.point.position, ls.point.normal);
-        if (maxComponent(Lemit) > 0.0 && pdfLight > 0.0) {
+        LightSampleFrom ls = sampleLightFrom(sh, uLight, uLightPoint);
+        if (maxComponent(ls.Le) > 0.0 && ls.pdf > 0.0) {
             float pdfBsdf, absCos;
-            vec3 f = shadingEval(sh, wi, pdfBsdf, absCos);
+            vec3 f = shadingEval(sh, ls.wi, pdfBsdf, absCos);
             if (maxComponent(f) > 0.0) {
-                light.ray = shadowRay(sh, ls.point);
-                light.contribution = p.beta * f * absCos * Lemit * powerHeuristic(pdfLight, pdfBsdf) / pdfLight;
+                light.ray = ls.ray;
+                light.contribution = p.beta * f * absCos * ls.Le * powerHeuristic(ls.pdf, pdfBsdf) / ls.pdf;
                 light.valid = true;
 #ifdef PT_RECORD_PATHS
-                pv.lightPosition = ls.point.position;
-                pv.lightTriangle = ls.point.triangle;
-                pv.lightB1 = ls.barycentrics.x;
-                pv.lightB2 = ls.barycentrics.y;
+                pv.lightPosition = ls.area.point.position;
+                pv.lightTriangle = ls.area.point.triangle;
+                pv.lightB1 = ls.area.barycentrics.x;
+                pv.lightB2 = ls.area.barycentrics.y;
 #endif
             }
         }
@@ -259,7 +303,7 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
     vec3 dir = cameraDirection(raster);
     Hit hit;
     rays += 1u;
-    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) return vec3(0.0);
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) return escapedRadiance(dir, true, 0.0);
     SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
     vec3 wo = -dir;
     ShadingPoint sh = makeShadingPoint(s, wo);
@@ -271,19 +315,18 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
         float uLight = samplerGet1D(smp);
         vec2 uLightPoint = samplerGet2D(smp);
         if (bsdfHasNonDelta(sh.bsdf)) {
-            LightSample ls = sampleLight(uLight, uLightPoint);
-            vec3 toLight = ls.point.position - s.position;
-            vec3 wi = normalize(toLight);
-            vec3 Lemit = emittedRadiance(ls.point, -wi);
-            float pdfLight = areaToSolidAngle(ls.pdfArea, s.position, ls.point.position, ls.point.normal);
-            if (maxComponent(Lemit) > 0.0 && pdfLight > 0.0) {
+            LightSampleFrom ls = sampleLightFrom(sh, uLight, uLightPoint);
+            if (maxComponent(ls.Le) > 0.0 && ls.pdf > 0.0) {
                 float pdfBsdf, absCos;
-                vec3 f = shadingEval(sh, wi, pdfBsdf, absCos);
-                if (maxComponent(f) > 0.0 && visible(sh, ls.point, rays))
-                    L += f * absCos * Lemit * powerHeuristic(n, pdfLight, n, pdfBsdf) / (n * pdfLight);
+                vec3 f = shadingEval(sh, ls.wi, pdfBsdf, absCos);
+                if (maxComponent(f) > 0.0) {
+                    rays += 1u;
+                    if (!traceAny(ls.ray.origin, ls.ray.dir, ls.ray.tMax))
+                        L += f * absCos * ls.Le * powerHeuristic(n, ls.pdf, n, pdfBsdf) / (n * ls.pdf);
+                }
             }
         }
-        // BSDF sample.
+        // BSDF sample: an emitter it hits, or the environment when it escapes.
         float uLobe = samplerGet1D(smp);
         vec2 uDir = samplerGet2D(smp);
         BsdfSample bs;
@@ -291,15 +334,19 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
         if (!shadingSample(sh, uLobe, uDir, bs, wi)) continue;
         Hit lightHit;
         rays += 1u;
-        if (!traceClosest(spawnOrigin(sh, wi), wi, FLOAT_MAX, lightHit)) continue;
-        SurfacePoint l = surfaceAt(lightHit.triangle, vec2(lightHit.b1, lightHit.b2));
-        vec3 Lemit = emittedRadiance(l, -wi);
-        if (maxComponent(Lemit) <= 0.0) continue;
-        float w = 1.0;
-        if (!bs.delta) {
-            float pdfLight = areaToSolidAngle(emitterAreaPdf(l.triangle), s.position, l.position, l.normal);
-            w = powerHeuristic(n, bs.pdf, n, pdfLight);
+        vec3 Lemit;
+        float pdfLight;
+        if (traceClosest(spawnOrigin(sh, wi), wi, FLOAT_MAX, lightHit)) {
+            SurfacePoint l = surfaceAt(lightHit.triangle, vec2(lightHit.b1, lightHit.b2));
+            Lemit = emittedRadiance(l, -wi);
+            pdfLight = areaToSolidAngle(emitterAreaPdf(l.triangle), s.position, l.position, l.normal);
+        } else {
+            if (!hasEnvironment()) continue;
+            Lemit = envRadiance(wi);
+            pdfLight = envPdf(wi) * sceneInfo.envSelectPmf;
         }
+        if (maxComponent(Lemit) <= 0.0) continue;
+        float w = bs.delta ? 1.0 : powerHeuristic(n, bs.pdf, n, pdfLight);
         L += bs.f * abs(bs.wi.z) * Lemit * w / (n * bs.pdf);
     }
     return L;

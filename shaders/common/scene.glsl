@@ -42,6 +42,7 @@ Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBit
 // slot floor(u n) of the n entries from `first` in `table`, kept when the rest of u n is below
 // its threshold, else its alias (relative to `first`).
 uint aliasTableTriangle(usamplerBuffer table, uint first, uint n, float u) {
+    if (n == 0u) return 0u;  // an empty table (a scene lit by its environment alone)
     float scaled = u * float(n);
     uint slot = min(uint(scaled), n - 1u);
     Emitter e = emitterFrom(texelFetch(table, int(first + slot)));

@@ -19,7 +19,9 @@ PMCR_CONST uint BINDING_LIGHT_GROUPS = 9;     // LightGroup[] as a uint texel bu
                                               // (connected emitters, PMC-HI), then all emitters
 PMCR_CONST uint BINDING_LIGHT_EMITTERS = 10;  // Emitter[] as a uint texel buffer (their alias tables)
 PMCR_CONST uint BINDING_TRIANGLE_LIGHTS = 11; // uint[] per triangle: its LightGroup, or LIGHT_NONE
-PMCR_CONST uint SCENE_BINDING_COUNT = 12;
+PMCR_CONST uint BINDING_ENV_TEXELS = 12;      // vec4[] float texel buffer: the environment image's RGB, row-major, top row first
+PMCR_CONST uint BINDING_ENV_ALIAS = 13;       // Emitter[] as a uint texel buffer: an alias table over its pixels
+PMCR_CONST uint SCENE_BINDING_COUNT = 14;
 
 PMCR_CONST uint WORK_SET = 1;
 PMCR_CONST uint WORK_BINDING_COUNT = 16;     // storage buffers 0..15, meaning set per kernel

@@ -173,5 +173,17 @@ struct SceneInfo {
     uint pad0;
     uint pad1;
     uint pad2;
+    // The environment light (--env; shaders/common/environment.glsl).
+    vec3 envRadiance;      // ENV_CONSTANT: the radiance; ENV_IMAGE: the scale of the image's texels
+    uint envKind;          // ENV_*
+    float envSelectPmf;    // probability that light sampling picks the environment (by power)
+    float envRotation;     // radians about +y (--env-rotate)
+    uint envWidth;         // ENV_IMAGE: the equirectangular image's size
+    uint envHeight;
 };
-PMCR_CHECK_SIZE(SceneInfo, 112);
+PMCR_CHECK_SIZE(SceneInfo, 144);
+
+// The environment light: radiance arriving from infinitely far in every direction.
+PMCR_CONST uint ENV_NONE = 0;
+PMCR_CONST uint ENV_CONSTANT = 1;  // the same radiance from every direction
+PMCR_CONST uint ENV_IMAGE = 2;     // an equirectangular (latitude-longitude) image, +y up

@@ -1,0 +1,119 @@
+#include "scene/environment.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+
+#include <stb_image.h>  // Radiance .hdr (the implementation is compiled in gltf_loader.cpp)
+
+#include "core/error.h"
+
+namespace pmcr {
+
+namespace {
+
+// "R,G,B" as three finite numbers, or false when `text` is not of that form.
+bool parseTriple(const std::string& text, glm::vec3& out) {
+    const char* p = text.c_str();
+    for (int i = 0; i < 3; ++i) {
+        char* end = nullptr;
+        out[i] = std::strtof(p, &end);
+        if (end == p) return false;
+        p = end;
+        if (i < 2) {
+            if (*p != ',') return false;
+            ++p;
+        }
+    }
+    return *p == '\0';
+}
+
+Image readRadianceHdr(const std::filesystem::path& path) {
+    int w = 0, h = 0, channels = 0;
+    std::unique_ptr<float, void (*)(void*)> data(
+        stbi_loadf(path.string().c_str(), &w, &h, &channels, 3), stbi_image_free);
+    if (!data) {
+        if (!std::filesystem::exists(path)) fail(path.string(), "no such file");
+        fail(path.string(), std::string("cannot read the Radiance HDR image: ") + stbi_failure_reason());
+    }
+    Image image(w, h);
+    std::copy(data.get(), data.get() + image.rgb.size(), image.rgb.begin());
+    return image;
+}
+
+}  // namespace
+
+Environment loadEnvironment(const EnvironmentSpec& spec) {
+    Environment env;
+    if (spec.value.empty()) return env;
+    env.source = spec.value;
+    if (!std::isfinite(spec.scale) || spec.scale < 0.0f) fail(spec.value, "--env-scale must be >= 0");
+    env.scale = spec.scale;
+    env.rotation = glm::radians(spec.rotateDegrees);
+    glm::vec3 constant;
+    if (parseTriple(spec.value, constant)) {
+        if (!std::isfinite(constant.x + constant.y + constant.z) || glm::any(glm::lessThan(constant, glm::vec3(0.0f))))
+            fail(spec.value, "environment radiance must be finite and >= 0");
+        env.kind = gpu::ENV_CONSTANT;
+        env.radiance = constant * spec.scale;
+        return env;
+    }
+    const std::filesystem::path path(spec.value);
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr" && ext != ".pfm" && ext != ".hdr")
+        fail(spec.value, "--env expects R,G,B or an .exr, .pfm or .hdr image");
+    env.image = ext == ".hdr" ? readRadianceHdr(path) : readHdr(path);
+    if (env.image.width < 1 || env.image.height < 1) fail(spec.value, "empty image");
+    if (uint64_t(env.image.width) * uint64_t(env.image.height) > (1u << 26))
+        fail(spec.value, "environment image too large (more than 2^26 pixels)");
+    for (float v : env.image.rgb)
+        if (!std::isfinite(v) || v < 0.0f) fail(spec.value, "environment image has negative, NaN or infinite pixels");
+    env.kind = gpu::ENV_IMAGE;
+    return env;
+}
+
+std::vector<gpu::Emitter> environmentAliasTable(const Environment& env) {
+    if (env.kind != gpu::ENV_IMAGE) return {};
+    const int w = env.image.width, h = env.image.height;
+    std::vector<double> weight(size_t(w) * size_t(h));
+    double total = 0.0;
+    for (int y = 0; y < h; ++y) {
+        const double sinTheta = std::sin(std::numbers::pi * (double(y) + 0.5) / double(h));
+        for (int x = 0; x < w; ++x) {
+            const double wgt = double(luminance(env.image.at(x, y))) * sinTheta;
+            weight[size_t(y) * w + x] = wgt;
+            total += wgt;
+        }
+    }
+    // An all-black image is sampled uniformly: every sample then carries zero radiance.
+    if (!(total > 0.0)) std::fill(weight.begin(), weight.end(), 1.0);
+    std::vector<gpu::Emitter> table(weight.size());
+    buildAliasTable(weight, table.data());
+    for (size_t i = 0; i < table.size(); ++i) table[i].triangle = uint32_t(i);
+    return table;
+}
+
+double environmentPower(const Environment& env, float sceneRadius) {
+    // The integral of luminance over the sphere of directions.
+    double integral = 0.0;
+    if (env.kind == gpu::ENV_CONSTANT) {
+        integral = 4.0 * std::numbers::pi * double(luminance(env.radiance));
+    } else if (env.kind == gpu::ENV_IMAGE) {
+        const int w = env.image.width, h = env.image.height;
+        // Each pixel spans (2 pi / w) (pi / h) in (phi, theta), sin theta at its centre row.
+        const double pixelArea = 2.0 * std::numbers::pi * std::numbers::pi / (double(w) * double(h));
+        for (int y = 0; y < h; ++y) {
+            const double sinTheta = std::sin(std::numbers::pi * (double(y) + 0.5) / double(h));
+            for (int x = 0; x < w; ++x) integral += double(luminance(env.image.at(x, y))) * sinTheta * pixelArea;
+        }
+        integral *= double(env.scale);
+    }
+    const double r = std::max(double(sceneRadius), 1e-6);
+    return std::numbers::pi * r * r * integral;
+}
+
+}  // namespace pmcr

@@ -1,0 +1,155 @@
+// Rendering under an environment light (--env) against analytic answers, for every method that
+// takes one:
+//  - a white Lambertian sphere under a constant environment L (a furnace): every pixel, sphere
+//    or background, sees L, whatever the depth (a convex object's reflected rays escape);
+//  - a large white Lambertian floor under a random environment image, seen from above: every
+//    pixel sees (1 / pi) * the integral over the upper hemisphere of L cos(theta), a sum over
+//    the image's upper rows in closed form (the image is constant over a pixel), and the same
+//    whatever the rotation about +y. Light sampling (the pixel table), BSDF sampling and their
+//    MIS weights must then add up to it exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "gpu_test.h"
+#include "render_test.h"
+#include "scene/environment.h"
+#include "scene_builder.h"
+
+namespace pmcr::test {
+namespace {
+
+gpu::Material whiteLambertian() {
+    gpu::Material m = testMaterial(glm::vec3(0.0f));
+    m.baseColor = glm::vec3(1.0f);
+    return m;
+}
+
+// A UV sphere of radius 1 at the origin, seen from +z.
+Scene sphereScene(Environment env) {
+    Scene s;
+    s.path = "environment-sphere.gltf";
+    s.materials = {whiteLambertian()};
+    const int rings = 16, segments = 32;
+    auto point = [&](int i, int j) {
+        const double theta = std::numbers::pi * i / rings, phi = 2.0 * std::numbers::pi * j / segments;
+        return glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+    };
+    auto outward = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+        if (glm::dot(glm::cross(b - a, c - a), a + b + c) < 0.0f) std::swap(b, c);
+        addTriangle(s, a, b, c, 0);
+    };
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const glm::vec3 p00 = point(i, j), p01 = point(i, j + 1), p10 = point(i + 1, j),
+                            p11 = point(i + 1, j + 1);
+            if (i > 0) outward(p00, p10, p01);
+            if (i < rings - 1) outward(p01, p10, p11);
+        }
+    Camera camera;
+    camera.position = glm::vec3(0, 0, 4);
+    s.cameras.push_back(camera);
+    s.environment = std::move(env);
+    finalizeScene(s);
+    return s;
+}
+
+// A 200 x 200 floor facing +y, seen straight down from 1 above it.
+Scene floorScene(Environment env) {
+    Scene s;
+    s.path = "environment-floor.gltf";
+    s.materials = {whiteLambertian()};
+    addTriangle(s, {-100, 0, -100}, {-100, 0, 100}, {100, 0, 100}, 0);
+    addTriangle(s, {-100, 0, -100}, {100, 0, 100}, {100, 0, -100}, 0);
+    Camera camera;
+    camera.position = glm::vec3(0, 1, 0);
+    camera.forward = glm::vec3(0, -1, 0);
+    camera.up = glm::vec3(0, 0, -1);
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.yfov = 0.6f;
+    s.cameras.push_back(camera);
+    s.environment = std::move(env);
+    finalizeScene(s);
+    return s;
+}
+
+Environment randomSky(float rotationDegrees) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Environment env;
+    env.source = "random-sky.exr";
+    env.kind = gpu::ENV_IMAGE;
+    env.image = Image(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            env.image.set(x, y, u(rng) < 0.2f ? glm::vec3(0.0f) : glm::vec3(u(rng), 2.0f * u(rng), u(rng)));
+    env.image.set(5, 2, glm::vec3(30.0f, 60.0f, 20.0f));  // a sun
+    env.scale = 0.8f;
+    env.rotation = glm::radians(rotationDegrees);
+    return env;
+}
+
+// (1 / pi) * integral over the upper hemisphere of L_green cos(theta): row y spans
+// theta in [pi y / h, pi (y + 1) / h] and phi in 2 pi / w per pixel, and
+// integral cos sin dtheta = (sin^2 theta1 - sin^2 theta0) / 2.
+double floorAnswer(const Environment& env) {
+    const int w = env.image.width, h = env.image.height;
+    double sum = 0.0;
+    for (int y = 0; y < h / 2; ++y) {
+        const double s0 = std::sin(std::numbers::pi * y / h), s1 = std::sin(std::numbers::pi * (y + 1) / h);
+        const double rowWeight = (2.0 * std::numbers::pi / w) * 0.5 * (s1 * s1 - s0 * s0);
+        for (int x = 0; x < w; ++x) sum += double(env.image.at(x, y).y) * rowWeight;
+    }
+    return sum * env.scale / std::numbers::pi;
+}
+
+class EnvironmentRender : public GpuTest {
+protected:
+    // The image mean over 6 renders must match `expected` within 5 standard errors.
+    void expectMean(const Scene& scene, RenderSettings s, double expected, const std::string& what) {
+        s.width = 24;
+        s.height = 24;
+        const MeanEstimate m = meanOverRenders(scene, s, 6, 101);
+        EXPECT_NEAR(m.mean, expected, 5.0 * m.standardError + 1e-4 * expected)
+            << what << ": mean " << m.mean << ", expected " << expected << " (standard error "
+            << m.standardError << ")";
+    }
+};
+
+RenderSettings method(const std::string& name, uint32_t spp, uint32_t maxDepth = 16) {
+    RenderSettings s;
+    s.method = name;
+    s.spp = spp;
+    s.maxDepth = maxDepth;
+    return s;
+}
+
+TEST_F(EnvironmentRender, WhiteSphereUnderConstantSky) {
+    const Scene scene = sphereScene(loadEnvironment({"0.7,0.7,0.7"}));
+    expectMean(scene, method("pt", 8, 1), 0.7, "pt depth 1");
+    expectMean(scene, method("pt", 8, 5), 0.7, "pt depth 5");
+    expectMean(scene, method("direct", 8), 0.7, "direct");
+    RenderSettings ip = method("pmc-ip", 16, 4);
+    expectMean(scene, ip, 0.7, "pmc-ip");
+    expectMean(scene, method("pmc-ip-direct", 16), 0.7, "pmc-ip-direct");
+    expectMean(scene, method("pmc-pt", 16, 4), 0.7, "pmc-pt");
+}
+
+TEST_F(EnvironmentRender, WhiteFloorUnderImageSky) {
+    for (const float rotation : {0.0f, 130.0f}) {
+        SCOPED_TRACE(rotation);
+        const Scene scene = floorScene(randomSky(rotation));
+        const double expected = floorAnswer(scene.environment);
+        expectMean(scene, method("pt", 8, 1), expected, "pt depth 1");
+        expectMean(scene, method("pt", 8, 3), expected, "pt depth 3");
+        RenderSettings direct = method("direct", 8);
+        direct.options["light-samples"] = "2";
+        expectMean(scene, direct, expected, "direct");
+        expectMean(scene, method("pmc-ip", 16, 2), expected, "pmc-ip");
+    }
+}
+
+}  // namespace
+}  // namespace pmcr::test
