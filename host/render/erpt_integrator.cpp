@@ -283,4 +283,23 @@ RenderOutput Erpt::render(RenderSession& session) {
     return out;
 }
 
+MethodInfo erptMethod() {
+    return {"erpt", "energy redistribution path tracing (equal deposition, lens and caustic perturbations)",
+        true,
+        {{"chain-length", "100", "mutations per chain, m"},
+         {"mutations-per-pixel", "4", "k: e_d = mean pixel luminance / k, per seed pass (--spp passes)"},
+         {"prepass-spp", "4", "path-traced samples per pixel estimating the mean luminance"},
+         {"lens-radius", "3", "lens perturbation disk radius in pixels (the paper: a 9x9 square)"},
+         {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
+         {"caustic-theta-max", "0.1", "... to (radians)"},
+         {"mutation", "erpt", "erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
+         {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
+         {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
+         {"redistribute", "indirect", "all seed paths, or indirect: the emitter seen directly and direct light at the first hit are deposited at their pixel"},
+         {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
+         {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
+         {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
+        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""};
+}
+
 }  // namespace pmcr

@@ -6,11 +6,12 @@
 // luminance of a short path-traced pre-pass and k the mutations per pixel per pass (ERPT eq. 7).
 // The image is the average of the passes, each an unbiased estimate (ERPT sec. 3.2).
 //
-// Options and their defaults are listed in render/methods.cpp. The two noise filters of ERPT
-// sec. 4.4 are biased and off by default.
+// Options and their defaults are listed in erptMethod() (erpt_integrator.cpp). The two noise
+// filters of ERPT sec. 4.4 are biased and off by default.
 #pragma once
 
 #include "render/integrator.h"
+#include "render/method_info.h"
 
 namespace pmcr {
 
@@ -51,5 +52,8 @@ private:
 // ERPT's proposed-mutations noise filter (sec. 4.4; biased): scales each pixel by the ratio of
 // the box-filtered proposal count (radius r) to its own count.
 void applyProposalFilter(Image& image, const std::vector<uint32_t>& proposals, int radius);
+
+// The registry entry of `erpt` (render/methods.cpp).
+MethodInfo erptMethod();
 
 }  // namespace pmcr

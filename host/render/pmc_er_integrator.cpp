@@ -479,4 +479,26 @@ RenderOutput PmcEr::render(RenderSession& session) {
     return out;
 }
 
+MethodInfo pmcErMethod() {
+    return {"pmc-er", "population Monte Carlo energy redistribution: a population of light paths, adapted radii",
+        true,
+        {{"population", "auto", "light paths in the population; auto = one per 4 pixels, paper = the paper's 5000 per 640x480 pixels (at least 64)"},
+         {"mutations", "1", "mutations per member per iteration (paper 16-20; fewer measured better)"},
+         {"radii", "5,10,50", "perturbation radii in pixels, 1 to 3, separated by , or / (strategy image: red, green, blue)"},
+         {"resample-rate", "0.4", "share of the population eliminated (by remaining energy) and regenerated per iteration"},
+         {"epsilon", "0.1", "floor of the radius weights alpha"},
+         {"initial-alpha", "uniform", "a new member's radius weights: uniform (the paper) or one weight per radius (',' or '/' between; normalised)"},
+         {"adapt-rate", "1", "how far each update moves a member's weights to sec. 4.5's (1: all the way, the paper; 0: they stay fixed)"},
+         {"caustic-probability", "0.9", "gamma_caustic: chance of a caustic perturbation where it applies"},
+         {"pass-spp", "4", "pool paths per pixel per pass, exactly that many in every pixel (sets the iterations); passes are averaged"},
+         {"acceptance", "component", "component: each radius's own transition density (eq. 9); mixture: the density of the whole radius mixture (eq. 8)"},
+         {"lifetime", "100", "Q, mutations a member of equal births lives (auto: the mean pool path energy in deposits, as the paper's mutations per iteration imply)"},
+         {"refill-rounds", "8", "times a slot left empty by a birth without energy is refilled from the pool at once (1: never)"},
+         {"redistribute", "indirect", "indirect: seed paths with at most one scattering vertex are deposited at their pixel, the rest make members; all: every path (the paper)"},
+         {"prepass-spp", "4", "path-traced samples per pixel estimating the image energy"},
+         {"steps-per-dispatch", "4", "mutations per member per dispatch"},
+         {"birth", "equal", "equal: every member starts with the mean path energy Q and floor(U + E/Q) shares; path: the paper's E_remain = E", true}},
+        [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, ""};
+}
+
 }  // namespace pmcr

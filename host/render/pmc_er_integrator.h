@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "render/integrator.h"
+#include "render/method_info.h"
 #include "shared/host_device.h"
 
 namespace pmcr {
@@ -66,5 +67,8 @@ public:
 private:
     PmcErOptions m_options;
 };
+
+// The registry entry of `pmc-er` (render/methods.cpp).
+MethodInfo pmcErMethod();
 
 }  // namespace pmcr

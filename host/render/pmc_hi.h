@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "render/gpu_scene.h"
-#include "render/methods.h"
+#include "render/method_info.h"
 #include "render/session.h"
 #include "shared/host_device.h"
 

@@ -18,6 +18,31 @@ namespace {
 
 constexpr uint32_t kMaxRequestsInFlight = 1u << 20;  // per batch: 16 MiB of requests and results
 
+std::vector<MethodOption> pmcIpOptions(bool direct) {
+    std::vector<MethodOption> options = {
+        {"iterations", "0", "adaptive iterations after the first (0: as many as --spp or --time allow)"},
+        {"initial-spp", "4", "samples per pixel of the first, uniform iteration"},
+        {"spp-per-iteration", "4", "average samples per pixel of each adaptive iteration (N / pixels)"},
+        {"epsilon", "0.01", "defensive weight: every pixel's mixture weight is at least epsilon / pixels"},
+        {"min-spp", "1", "pilot samples every pixel gets in every iteration; they alone drive the adaptation"},
+        {"variance-radius", "2", "a pixel's weight comes from its neighbours' pilot variance within this radius"},
+    };
+    if (direct)
+        options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});
+    return options;
+}
+
+std::vector<MethodOption> pmcIpHiOptions() {
+    std::vector<MethodOption> options = pmcIpOptions(false);
+    for (MethodOption& o : pmcHiMethodOptions()) {
+        // PMC-IP's --iterations counts image-plane iterations; PMC-HI's is per estimate.
+        if (o.name == "iterations") o.name = "hi-iterations";
+        options.push_back(o);
+    }
+    options.push_back({"feedback", "on", "seed each pixel's PMC-HI weights from its previous iteration (sec. 6.1)"});
+    return options;
+}
+
 }  // namespace
 
 PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(estimator) {
@@ -277,6 +302,26 @@ RenderOutput PmcIp::render(RenderSession& session) {
     for (float c : out.diagnostics[1].second.rgb) maxCount = std::max(maxCount, uint32_t(c));
     out.methodStats["max_samples_in_a_pixel"] = maxCount;
     return out;
+}
+
+MethodInfo pmcIpMethod() {
+    return {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true, pmcIpOptions(false),
+        [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Full); },
+        ""};
+}
+
+MethodInfo pmcIpDirectMethod() {
+    return {"pmc-ip-direct", "PMC-IP adaptive image-plane sampling over MIS direct lighting", true,
+        pmcIpOptions(true),
+        [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Direct); },
+        ""};
+}
+
+MethodInfo pmcIpHiMethod() {
+    return {"pmc-ip-hi", "PMC-IP adaptive image-plane sampling over PMC-HI direct lighting, with feedback",
+        true, pmcIpHiOptions(),
+        [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::PmcHi); },
+        ""};
 }
 
 }  // namespace pmcr

@@ -8,7 +8,8 @@
 //
 // Budget: the first iteration takes `--initial-spp` uniformly, each later one `--spp-per-iteration`
 // on average; `--iterations` adaptive iterations, or as many as `--spp` allows (average samples
-// per pixel in total), or as many as fit in `--time`. Options and defaults: render/methods.cpp.
+// per pixel in total), or as many as fit in `--time`. Options and defaults: pmcIpMethod() and
+// the other registry entries (pmc_ip_integrator.cpp).
 //
 // `pmc-ip-hi` traces its samples with PMC-HI adaptive direct lighting (shaders/pmc_hi.comp) and
 // feeds back (sec. 6.1): after each image-plane iteration, each pixel's mean of the final alpha
@@ -18,6 +19,7 @@
 
 #include "render/image_plane_sampler.h"
 #include "render/integrator.h"
+#include "render/method_info.h"
 #include "render/pmc_hi.h"
 
 namespace pmcr {
@@ -38,5 +40,10 @@ private:
     PmcHiOptions m_hi;
     bool m_feedback = true;
 };
+
+// The registry entries (render/methods.cpp) of `pmc-ip`, `pmc-ip-direct` and `pmc-ip-hi`.
+MethodInfo pmcIpMethod();
+MethodInfo pmcIpDirectMethod();
+MethodInfo pmcIpHiMethod();
 
 }  // namespace pmcr

@@ -377,4 +377,20 @@ RenderOutput PmcPt::render(RenderSession& session) {
     return out;
 }
 
+MethodInfo pmcPtMethod() {
+    return {"pmc-pt", "population Monte Carlo path tracing: a population of pixels mutated in disks",
+        true,
+        {{"population", "auto", "members; auto = as many as make --defensive of each step's eye paths the pool's"},
+         {"mutations", "16", "TR: mutations per member per resample step"},
+         {"radii", "5,10,50", "disk radii in pixels, 1 to 3, separated by , or / (strategy image: red, green, blue)"},
+         {"pool-spp", "4", "pool eye paths in every pixel per resample step, stratified with the step's other samples there"},
+         {"step-growth", "1.5", "step t is round(G^t) times the first step (pool eye paths and mutations per member); weights ∝ size; 1 = equal steps"},
+         {"adapt-every", "1", "resample steps between alpha and beta updates (the paper's 100-200 are steps 1/30 this size)"},
+         {"resample-rate", "0.4", "share of the population replaced per step (half pool, half beta)"},
+         {"epsilon", "0.01", "floor of the alpha weights"},
+         {"defensive", "0.5", "share of each step's eye paths from the stratified pool (uniform)"},
+         {"estimator", "steps", "steps: the average of each step's per-pixel averages (unbiased); average: the paper's per-pixel average over all steps", true}},
+        [](const RenderSettings& s) { return std::make_unique<PmcPt>(s); }, ""};
+}
+
 }  // namespace pmcr

@@ -72,6 +72,7 @@
 #pragma once
 
 #include "render/integrator.h"
+#include "render/method_info.h"
 #include "render/pixel_population.h"
 
 namespace pmcr {
@@ -106,5 +107,8 @@ public:
 private:
     PmcPtOptions m_options;
 };
+
+// The registry entry of `pmc-pt` (render/methods.cpp).
+MethodInfo pmcPtMethod();
 
 }  // namespace pmcr

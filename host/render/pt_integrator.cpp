@@ -177,4 +177,24 @@ RenderOutput PathTracer::render(RenderSession& session) {
     return out;
 }
 
+MethodInfo ptMethod() {
+    return {"pt", "path tracing with next-event estimation and MIS (the baseline)", true, {},
+        [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Full); },
+        ""};
+}
+
+MethodInfo directMethod() {
+    return {"direct", "direct lighting only, MIS of light and BSDF sampling (the PMC-HI baseline)", true,
+        {{"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"}},
+        [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Direct); },
+        ""};
+}
+
+MethodInfo pmcHiMethod() {
+    return {"pmc-hi", "PMC-HI adaptive direct lighting (mixture of BSDF, light and cone sampling)", true,
+        pmcHiMethodOptions(),
+        [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::PmcHi); },
+        ""};
+}
+
 }  // namespace pmcr

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "render/integrator.h"
+#include "render/method_info.h"
 #include "render/pmc_hi.h"
 
 namespace pmcr {
@@ -37,5 +38,11 @@ private:
     uint32_t m_lightSamples;
     PmcHiOptions m_hi;
 };
+
+// The registry entries (render/methods.cpp) of `pt`, `direct` and `pmc-hi` (this loop with
+// PMC-HI direct lighting, render/pmc_hi.h).
+MethodInfo ptMethod();
+MethodInfo directMethod();
+MethodInfo pmcHiMethod();
 
 }  // namespace pmcr
