@@ -10,7 +10,7 @@
 //
 // Bookkeeping: each mutation takes one from E_remain. When less than one is left, Russian
 // roulette: the member makes its last mutation with probability E_remain and dies either way,
-// so the expected number of deposits is E_remain exactly (host/render/path_population.h).
+// so the expected number of deposits is E_remain exactly (host/methods/pmc_er/path_population.h).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"

@@ -7,11 +7,11 @@
 // With ERPT_FLAG_DEPOSIT_DIRECT (--redistribute indirect) the direct seed paths
 // (common/seed_paths.glsl isDirectSeed) are deposited at the sample's pixel instead, as path
 // tracing would, and the member is made of the others: unbiased term by term (ERPT sec. 3.2),
-// and with the per-pixel stratified pool (host/render/stratified_pixel_pool.h) the direct part
-// is exactly a path tracer's.
+// and with the per-pixel stratified pool (host/methods/pmc_er/stratified_pixel_pool.h) the direct
+// part is exactly a path tracer's.
 // Equal births (the default) give every member the same E_remain = Q and n = floor(U + E / Q)
 // shares (e_d per deposit), so that no member's lifetime depends on its path; the paper's births
-// give E_remain = E and one share (host/render/path_population.h says why that is biased).
+// give E_remain = E and one share (host/methods/pmc_er/path_population.h says why that is biased).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #extension GL_EXT_shader_atomic_float : require

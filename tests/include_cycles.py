@@ -6,7 +6,7 @@ usage: include_cycles.py [SOURCE_DIR] [--concepts-everywhere]
 Two checks over host/, shaders/, tests/ and bench/:
   - headers (.h, .glsl): no header may include itself through others;
   - concepts under host/render/ and host/methods/ (the registry and the methods): a header and
-    its source count as one (pmc_hi.h and pmc_hi.cpp), so render/pmc_hi.h including
+    its source count as one (pmc_hi.h and pmc_hi.cpp), so methods/pmc_hi/pmc_hi.h including
     render/methods.h while methods.cpp includes pmc_hi.h is a cycle too: the registry depends
     on every method, so no method may depend on the registry.
 --concepts-everywhere applies the second check to every folder (informational: image/ and vk/

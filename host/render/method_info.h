@@ -1,5 +1,6 @@
 // What the registry (render/methods.h) holds for one method: its name, summary, options and how
-// to create it. Each method defines its entries beside its integrator.
+// to create it. Each method defines its entries beside its integrator, in its folder under
+// host/methods/.
 #pragma once
 
 #include <functional>

@@ -1,17 +1,16 @@
 #include "render/methods.h"
 
 #include "core/error.h"
-#include "render/erpt_integrator.h"
-#include "render/pmc_er_integrator.h"
-#include "render/pmc_hi.h"
-#include "render/pmc_ip_integrator.h"
-#include "render/pmc_pt_integrator.h"
-#include "render/pt_integrator.h"
+#include "methods/erpt/erpt_integrator.h"
+#include "methods/pmc_er/pmc_er_integrator.h"
+#include "methods/pmc_ip/pmc_ip_integrator.h"
+#include "methods/pmc_pt/pmc_pt_integrator.h"
+#include "methods/pt/pt_integrator.h"
 
 namespace pmcr {
 
 const std::vector<MethodInfo>& methods() {
-    // In --help order; each method's entry is defined beside its integrator.
+    // In --help order; each entry is defined in its method's folder under host/methods/.
     static const std::vector<MethodInfo> list = {
         ptMethod(),
         directMethod(),

@@ -24,7 +24,7 @@
 
 #include "distribution_test.h"
 #include "gpu_test.h"
-#include "render/path_records.h"
+#include "methods/energy_redistribution/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "statistics.h"

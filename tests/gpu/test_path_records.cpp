@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "gpu_test.h"
-#include "render/path_records.h"
+#include "methods/energy_redistribution/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "vk/command_batch.h"

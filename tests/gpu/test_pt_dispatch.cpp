@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "gpu_test.h"
-#include "render/pt_integrator.h"
+#include "methods/pt/pt_integrator.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "vk/command_batch.h"

@@ -1,6 +1,6 @@
-#include "render/energy_estimate.h"
+#include "methods/energy_redistribution/energy_estimate.h"
 
-#include "render/pt_integrator.h"
+#include "methods/pt/pt_integrator.h"
 #include "scene/scene.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"

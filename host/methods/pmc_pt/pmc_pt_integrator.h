@@ -3,8 +3,8 @@
 // disks of radius 5, 10 or 50 pixels chosen by its adapted weights alpha (eq. 4), every sample
 // estimated with the full path tracer (the `pt` kernel, PT_SOURCE_LIST), then elimination
 // ∝ sigma^2 / N_used and regeneration from a stratified pool and from pixels drawn
-// ∝ sigma^2 / tvi (sec. 4.3). The population lives on the host (render/pixel_population.h); the
-// GPU only path traces the samples it is given, and the host reduces the results in a fixed
+// ∝ sigma^2 / tvi (sec. 4.3). The population lives on the host (methods/pmc_pt/pixel_population.h);
+// the GPU only path traces the samples it is given, and the host reduces the results in a fixed
 // order, so a seed gives the same image bit for bit.
 //
 // The kernel is discrete (a departure from the paper's continuous disks): a mutation picks a
@@ -71,9 +71,9 @@
 // limit would be dropped whole, its time spent for nothing.
 #pragma once
 
+#include "methods/pmc_pt/pixel_population.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
-#include "render/pixel_population.h"
 
 namespace pmcr {
 

@@ -1,8 +1,8 @@
 // PMC-HI (Fan, Lai, Chenney and Dyer, sec. 5) on the host: its method options, the per-scene
 // kernel parameters (one light component per light up to --max-light-components, else one
 // shared by all) and the diagnostics (the figure 7 alpha maps). Used by `pmc-hi`
-// (render/pt_integrator.h) and `pmc-ip-hi` (render/pmc_ip_integrator.h); the sampler itself is
-// shaders/common/pmc_hi.glsl.
+// (methods/pt/pt_integrator.h) and `pmc-ip-hi` (methods/pmc_ip/pmc_ip_integrator.h); the sampler
+// itself is shaders/common/pmc_hi.glsl.
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-#include "render/redistribution.h"
+#include "methods/energy_redistribution/redistribution.h"
 
 #include <limits>
 

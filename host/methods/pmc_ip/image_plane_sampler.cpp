@@ -1,4 +1,4 @@
-#include "render/image_plane_sampler.h"
+#include "methods/pmc_ip/image_plane_sampler.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,20 +6,20 @@
 // with gamma 0.9 where it applies, else lens; eq. 5, 9) and deposits e_d at its current pixel
 // after each; between iterations the host adapts alpha from the acceptance probabilities,
 // eliminates `--resample-rate` of the members with survival by remaining energy and refills
-// their slots from the pool (render/path_population.h). When the pass ends every member
+// their slots from the pool (methods/pmc_er/path_population.h). When the pass ends every member
 // deposits what it has left (pmc_er_finish).
 //
 // Energy (sec. 4.3): a pass traces Npool = k P pool positions, N at first and R per iteration
 // after, so a path of luminance L carries E = L P / Npool of pixel value (P pixels:
 // each position is uniform over the image); e_d = E~ / (T N M) with E~ = P times the mean pixel
 // luminance of a `--prepass-spp` path-traced pre-pass (eq. 4). Bookkeeping keeps every member's
-// expected deposit equal to its energy (render/path_population.h), so the image is unbiased in
-// the sense of ERPT: its expected total energy is the seeds', and deposits follow the current
+// expected deposit equal to its energy (methods/pmc_er/path_population.h), so the image is unbiased
+// in the sense of ERPT: its expected total energy is the seeds', and deposits follow the current
 // paths of chains whose every kernel leaves the target function invariant. Deviations from the
 // paper are listed in docs/methods.md ("PMC-ER").
 //
 // Passes: `--pass-spp` k pool positions per pixel per pass, exactly k in every pixel (the pool
-// is stratified per pixel, render/stratified_pixel_pool.h), and T = 1 + ceil((k P - N) / R)
+// is stratified per pixel, methods/pmc_er/stratified_pixel_pool.h), and T = 1 + ceil((k P - N) / R)
 // iterations use them up (the last regeneration takes what is left); each pass is an
 // independent unbiased image and the passes are averaged, so `--spp N` is N path-traced paths
 // per pixel in all (the paper's "initial PT paths") and `--time` renders whole passes until

@@ -1,4 +1,4 @@
-#include "render/pt_integrator.h"
+#include "methods/pt/pt_integrator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "core/error.h"
-#include "render/pmc_hi.h"
+#include "methods/pmc_hi/pmc_hi.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 

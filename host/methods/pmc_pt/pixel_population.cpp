@@ -1,4 +1,4 @@
-#include "render/pixel_population.h"
+#include "methods/pmc_pt/pixel_population.h"
 
 #include <algorithm>
 #include <cmath>

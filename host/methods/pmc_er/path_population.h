@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "core/random.h"
-#include "render/pixel_population.h"
+#include "methods/pmc_pt/pixel_population.h"
 #include "shared/host_device.h"
 
 namespace pmcr {

@@ -7,9 +7,9 @@
 // of MIS direct lighting.
 #pragma once
 
+#include "methods/pmc_hi/pmc_hi.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
-#include "render/pmc_hi.h"
 
 namespace pmcr {
 
@@ -40,7 +40,7 @@ private:
 };
 
 // The registry entries (render/methods.cpp) of `pt`, `direct` and `pmc-hi` (this loop with
-// PMC-HI direct lighting, render/pmc_hi.h).
+// PMC-HI direct lighting, methods/pmc_hi/pmc_hi.h).
 MethodInfo ptMethod();
 MethodInfo directMethod();
 MethodInfo pmcHiMethod();

@@ -17,10 +17,10 @@
 // weights of the pixel's samples in the next iteration.
 #pragma once
 
-#include "render/image_plane_sampler.h"
+#include "methods/pmc_hi/pmc_hi.h"
+#include "methods/pmc_ip/image_plane_sampler.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
-#include "render/pmc_hi.h"
 
 namespace pmcr {
 

@@ -1,4 +1,4 @@
-#include "render/path_population.h"
+#include "methods/pmc_er/path_population.h"
 
 #include <algorithm>
 #include <cmath>

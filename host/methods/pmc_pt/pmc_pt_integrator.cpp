@@ -1,4 +1,4 @@
-#include "render/pmc_pt_integrator.h"
+#include "methods/pmc_pt/pmc_pt_integrator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,8 +9,8 @@
 
 #include "core/error.h"
 #include "image/image.h"
-#include "render/pixel_order.h"
-#include "render/pt_integrator.h"
+#include "methods/pt/pixel_order.h"
+#include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 

@@ -1,4 +1,4 @@
-#include "render/pmc_ip_integrator.h"
+#include "methods/pmc_ip/pmc_ip_integrator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,8 +7,8 @@
 
 #include "core/error.h"
 #include "core/random.h"
-#include "render/pt_integrator.h"
-#include "render/pixel_order.h"
+#include "methods/pt/pixel_order.h"
+#include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 

@@ -1,4 +1,4 @@
-#include "render/pixel_order.h"
+#include "methods/pt/pixel_order.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "render/path_records.h"
+#include "methods/energy_redistribution/path_records.h"
 
 #include "render/film.h"
 #include "shared/host_device.h"

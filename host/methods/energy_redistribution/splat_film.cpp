@@ -1,4 +1,4 @@
-#include "render/splat_film.h"
+#include "methods/energy_redistribution/splat_film.h"
 
 #include "vk/context.h"
 

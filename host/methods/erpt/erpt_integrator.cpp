@@ -1,4 +1,4 @@
-#include "render/erpt_integrator.h"
+#include "methods/erpt/erpt_integrator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,11 +6,11 @@
 #include <limits>
 
 #include "core/error.h"
-#include "render/energy_estimate.h"
-#include "render/path_records.h"
-#include "render/pt_integrator.h"
-#include "render/redistribution.h"
-#include "render/splat_film.h"
+#include "methods/energy_redistribution/energy_estimate.h"
+#include "methods/energy_redistribution/path_records.h"
+#include "methods/energy_redistribution/redistribution.h"
+#include "methods/energy_redistribution/splat_film.h"
+#include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 

@@ -1,4 +1,4 @@
-#include "render/pmc_hi.h"
+#include "methods/pmc_hi/pmc_hi.h"
 
 #include <string>
 

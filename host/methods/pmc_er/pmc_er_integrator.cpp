@@ -1,4 +1,4 @@
-#include "render/pmc_er_integrator.h"
+#include "methods/pmc_er/pmc_er_integrator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,15 +7,15 @@
 
 #include "core/error.h"
 #include "core/random.h"
-#include "render/energy_estimate.h"
-#include "render/erpt_integrator.h"
-#include "render/path_population.h"
-#include "render/path_records.h"
-#include "render/pt_integrator.h"
-#include "render/redistribution.h"
-#include "render/pixel_population.h"
-#include "render/splat_film.h"
-#include "render/stratified_pixel_pool.h"
+#include "methods/energy_redistribution/energy_estimate.h"
+#include "methods/energy_redistribution/path_records.h"
+#include "methods/energy_redistribution/redistribution.h"
+#include "methods/energy_redistribution/splat_film.h"
+#include "methods/erpt/erpt_integrator.h"
+#include "methods/pmc_er/path_population.h"
+#include "methods/pmc_er/stratified_pixel_pool.h"
+#include "methods/pmc_pt/pixel_population.h"
+#include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 

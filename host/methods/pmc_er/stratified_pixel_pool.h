@@ -15,8 +15,8 @@
 // Why per pixel: a path-traced position then contributes to its own pixel exactly as a
 // `rounds`-spp path tracer's sample does, so the seed paths PMC-ER deposits at their own pixel
 // (its --redistribute indirect, as ERPT's) carry no noise from the count of positions a pixel
-// got. PMC-PT's image-wide R2 pool (render/pixel_population.h PositionPool) puts 2 to 6 of every
-// 4 P positions in a pixel, which made that count noise dominate on the light's pixels.
+// got. PMC-PT's image-wide R2 pool (methods/pmc_pt/pixel_population.h PositionPool) puts 2 to 6 of
+// every 4 P positions in a pixel, which made that count noise dominate on the light's pixels.
 #pragma once
 
 #include <cstdint>

@@ -2,7 +2,7 @@
 // sec. 4), everything the host decides between two GPU dispatches: the stratified pool of
 // positions, the members and their disk-mixture kernels (eq. 4), the mutations they propose,
 // the density of a step's proposals on the image plane (for the unbiased estimator, see
-// render/pmc_pt_integrator.h), the alpha adaptation (sec. 4.3.3), the perceptual pixel
+// methods/pmc_pt/pmc_pt_integrator.h), the alpha adaptation (sec. 4.3.3), the perceptual pixel
 // importance beta (sec. 4.3.2) and resampling (sec. 4.3.1-4.3.2). Pure C++, no device.
 //
 // Coordinates are raster positions in pixels: x in [0, width), y in [0, height), pixel (i, j)
@@ -46,8 +46,8 @@ struct RunningStats {
 // PMC-PT's kernels here are discrete: a member sits at a pixel and a mutation picks a pixel of
 // the "pixel disk" of radius r around it, the pixels at integer offsets (dx, dy) with
 // dx^2 + dy^2 <= r^2, clipped to the image. The position inside the picked pixel comes from the
-// pixel's own stratified sequence (see render/pmc_pt_integrator.h), so a step's proposal density
-// is constant over each pixel and the path tracer keeps its stratification.
+// pixel's own stratified sequence (see methods/pmc_pt/pmc_pt_integrator.h), so a step's proposal
+// density is constant over each pixel and the path tracer keeps its stratification.
 
 // A uniform pixel of that clipped pixel disk (by rejection from its bounding square).
 glm::ivec2 samplePixelDisk(glm::ivec2 c, double r, int w, int h, Pcg32& rng);

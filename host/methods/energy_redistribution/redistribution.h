@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "methods/energy_redistribution/splat_film.h"
 #include "render/session.h"
-#include "render/splat_film.h"
 #include "vk/buffer.h"
 #include "vk/command_batch.h"
 

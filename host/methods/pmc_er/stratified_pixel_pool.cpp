@@ -1,4 +1,4 @@
-#include "render/stratified_pixel_pool.h"
+#include "methods/pmc_er/stratified_pixel_pool.h"
 
 #include <algorithm>
 
