@@ -98,11 +98,11 @@ RenderOutput Erpt::render(RenderSession& session) {
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
     // Build the pipelines before the clock starts (compilation is not rendering).
-    const vk::Kernel& recordKernel = session.kernel("pt_record");
-    const vk::Kernel& countKernel = session.kernel("erpt_count");
-    const vk::Kernel& seedKernel = session.kernel("erpt_seed");
-    const vk::Kernel& chainKernel = session.kernel("erpt_chains");
-    session.kernel("pt");  // the pre-pass
+    const vk::Kernel& recordKernel = session.kernel("methods/pt/pt_record");
+    const vk::Kernel& countKernel = session.kernel("methods/erpt/erpt_count");
+    const vk::Kernel& seedKernel = session.kernel("methods/erpt/erpt_seed");
+    const vk::Kernel& chainKernel = session.kernel("methods/erpt/erpt_chains");
+    session.kernel("methods/pt/pt");  // the pre-pass
     session.startClock();
 
     // e_d = e_ave / k (ERPT eq. 7).

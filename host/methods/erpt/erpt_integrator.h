@@ -1,6 +1,6 @@
 // Energy redistribution path tracing (Cline, Talbot and Egbert 2005). Each seed pass path-traces
-// one sample per pixel, recording every sample's light paths (shaders/pt_record.comp); a path of
-// energy e starts floor(U + e / (m e_d)) chains of m mutations (erpt_count, erpt_seed) that
+// one sample per pixel, recording every sample's light paths (shaders/methods/pt/pt_record.comp); a
+// path of energy e starts floor(U + e / (m e_d)) chains of m mutations (erpt_count, erpt_seed) that
 // deposit e_d per mutation at their current pixel (erpt_chains: lens and caustic perturbations,
 // Metropolis acceptance, fixed-point splatting). e_d = e_ave / k with e_ave the mean pixel
 // luminance of a short path-traced pre-pass and k the mutations per pixel per pass (ERPT eq. 7).

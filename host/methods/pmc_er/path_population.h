@@ -5,12 +5,12 @@
 //
 // Energy contract. A member's E_remain counts the deposits it still owes the image, each of
 // `shares` e_d. A mutation deposits and takes one from E_remain; below one, the last deposit is
-// made with probability E_remain (Russian roulette, shaders/pmc_er_mutate.comp). At elimination
-// member i survives with probability p_i and a survivor's E_remain becomes E_remain / p_i; a
-// member eliminated deposits nothing more. When a pass ends the members go on mutating without
-// regeneration (the drain) and deposit whatever is left at once. By induction over the steps,
-// the expected number of deposits a member still makes equals its E_remain at any time: a
-// mutation gives 1 + (E - 1) for E >= 1 and E * 1 + 0 below; elimination gives
+// made with probability E_remain (Russian roulette, shaders/methods/pmc_er/pmc_er_mutate.comp). At
+// elimination member i survives with probability p_i and a survivor's E_remain becomes
+// E_remain / p_i; a member eliminated deposits nothing more. When a pass ends the members go on
+// mutating without regeneration (the drain) and deposit whatever is left at once. By induction over
+// the steps, the expected number of deposits a member still makes equals its E_remain at any time:
+// a mutation gives 1 + (E - 1) for E >= 1 and E * 1 + 0 below; elimination gives
 // p_i (E / p_i) + (1 - p_i) 0 = E; the end gives E. So every member deposits, in expectation,
 // exactly its initial energy, and the image's expected total energy is the seeds'
 // (tests/host/test_path_population.cpp, tests/stat/test_pmc_er.cpp).

@@ -134,11 +134,11 @@ RenderOutput PmcEr::render(RenderSession& session) {
         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                    : std::max<uint32_t>(1, uint32_t(std::lround(double(kDefaultSpp) * pixels / double(poolPerPass))));
 
-    const vk::Kernel& recordKernel = session.kernel("pt_record");
-    const vk::Kernel& seedKernel = session.kernel("pmc_er_seed");
-    const vk::Kernel& mutateKernel = session.kernel("pmc_er_mutate");
-    const vk::Kernel& finishKernel = session.kernel("pmc_er_finish");
-    session.kernel("pt");  // the pre-pass
+    const vk::Kernel& recordKernel = session.kernel("methods/pt/pt_record");
+    const vk::Kernel& seedKernel = session.kernel("methods/pmc_er/pmc_er_seed");
+    const vk::Kernel& mutateKernel = session.kernel("methods/pmc_er/pmc_er_mutate");
+    const vk::Kernel& finishKernel = session.kernel("methods/pmc_er/pmc_er_finish");
+    session.kernel("methods/pt/pt");  // the pre-pass
     session.startClock();
 
     // e_d = E~ / (T N M) (PMC-ER eq. 4), E~ = P x mean pixel luminance (eq. 2-3).

@@ -2,7 +2,7 @@
 // kernel parameters (one light component per light up to --max-light-components, else one
 // shared by all) and the diagnostics (the figure 7 alpha maps). Used by `pmc-hi`
 // (methods/pt/pt_integrator.h) and `pmc-ip-hi` (methods/pmc_ip/pmc_ip_integrator.h); the sampler
-// itself is shaders/common/pmc_hi.glsl.
+// itself is shaders/methods/pmc_hi/pmc_hi.glsl.
 #pragma once
 
 #include <string>

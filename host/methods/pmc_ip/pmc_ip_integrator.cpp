@@ -78,9 +78,10 @@ PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(
 RenderOutput PmcIp::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
-    const vk::Kernel& kernel = session.kernel(m_estimator == Estimator::Full     ? "pt"
-                                              : m_estimator == Estimator::Direct ? "direct"
-                                                                                 : "pmc_hi");
+    const vk::Kernel& kernel =
+        session.kernel(m_estimator == Estimator::Full     ? "methods/pt/pt"
+                       : m_estimator == Estimator::Direct ? "methods/pt/direct"
+                                                          : "methods/pmc_hi/pmc_hi");
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
     ImagePlaneSampler sampler(film.width(), film.height(), m_options);

@@ -11,10 +11,10 @@
 // per pixel in total), or as many as fit in `--time`. Options and defaults: pmcIpMethod() and
 // the other registry entries (pmc_ip_integrator.cpp).
 //
-// `pmc-ip-hi` traces its samples with PMC-HI adaptive direct lighting (shaders/pmc_hi.comp) and
-// feeds back (sec. 6.1): after each image-plane iteration, each pixel's mean of the final alpha
-// of its samples' first-hit estimates goes into an auxiliary image, which seeds the PMC-HI
-// weights of the pixel's samples in the next iteration.
+// `pmc-ip-hi` traces its samples with PMC-HI adaptive direct lighting
+// (shaders/methods/pmc_hi/pmc_hi.comp) and feeds back (sec. 6.1): after each image-plane iteration,
+// each pixel's mean of the final alpha of its samples' first-hit estimates goes into an auxiliary
+// image, which seeds the PMC-HI weights of the pixel's samples in the next iteration.
 #pragma once
 
 #include "methods/pmc_hi/pmc_hi.h"

@@ -112,7 +112,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     };
 
     // Pipelines and buffers before the clock starts.
-    const vk::Kernel& kernel = session.kernel("pt");
+    const vk::Kernel& kernel = session.kernel("methods/pt/pt");
     Film& film = session.film();
     struct Slot {
         vk::Buffer requests;

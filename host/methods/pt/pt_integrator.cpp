@@ -46,9 +46,9 @@ void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession
 
 RenderOutput PathTracer::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
-    const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full     ? "pt"
-                                              : m_mode == Mode::Direct ? "direct"
-                                                                       : "pmc_hi");
+    const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full     ? "methods/pt/pt"
+                                              : m_mode == Mode::Direct ? "methods/pt/direct"
+                                                                       : "methods/pmc_hi/pmc_hi");
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     bindTileWork(work, film, session);

@@ -3,8 +3,8 @@
 // passes per dispatch). One writer per pixel per dispatch, adding its samples to the film one by
 // one in pass order, makes the film sums independent of how the passes are split, so a fixed
 // seed and sample count give the same image bit for bit on a given device.
-// `pmc-hi` is the same loop with PMC-HI adaptive direct lighting (shaders/pmc_hi.comp) in place
-// of MIS direct lighting.
+// `pmc-hi` is the same loop with PMC-HI adaptive direct lighting
+// (shaders/methods/pmc_hi/pmc_hi.comp) in place of MIS direct lighting.
 #pragma once
 
 #include "methods/pmc_hi/pmc_hi.h"

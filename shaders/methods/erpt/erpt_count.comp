@@ -1,7 +1,7 @@
 #version 460
 // ERPT: how many chains each path-traced sample (record) of this pass starts, and the energy of
 // all seed paths that start chains (in units of e_d; ENERGY_SEED), which the chains must deposit in
-// expectation. With ERPT_FLAG_DEPOSIT_DIRECT, the direct seed paths (common/erpt_seeds.glsl) are
+// expectation. With ERPT_FLAG_DEPOSIT_DIRECT, the direct seed paths (erpt_seeds.glsl) are
 // deposited here at their pixel instead (ENERGY_DIRECT).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
@@ -12,8 +12,8 @@
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { ErptPush push; };
 #include "common/math.glsl"
-#include "common/erpt_seeds.glsl"
-#include "common/splat.glsl"
+#include "methods/erpt/erpt_seeds.glsl"
+#include "methods/energy_redistribution/splat.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_CHAIN_COUNTS, scalar) writeonly buffer CountBuffer {
     uint chainCounts[];

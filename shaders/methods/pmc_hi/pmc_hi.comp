@@ -1,6 +1,6 @@
 #version 460
 // PMC-HI adaptive direct lighting: the emission seen at the first hit plus a PMC-HI estimate of
-// the light reflected there (shaders/common/pmc_hi.glsl), per camera sample.
+// the light reflected there (pmc_hi.glsl), per camera sample.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #extension GL_EXT_control_flow_attributes : require
@@ -14,7 +14,7 @@ layout(push_constant, scalar) uniform PushBlock {
 
 #include "common/film.glsl"
 #include "common/camera.glsl"
-#include "common/pmc_hi.glsl"
+#include "methods/pmc_hi/pmc_hi.glsl"
 
 // Per pixel: sums of the final alpha of its first-hit estimates, and their number. Written only
 // with PT_SOURCE_TILE (one invocation per pixel per dispatch). The feedback buffers are used
@@ -70,4 +70,4 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
     return L;
 }
 
-#include "common/camera_sample_kernel.glsl"
+#include "methods/pt/camera_sample_kernel.glsl"

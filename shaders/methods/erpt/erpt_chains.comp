@@ -8,7 +8,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { ErptPush push; };
 #define FILM_BINDING ERPT_BINDING_SPLAT
 #define COUNTERS_BINDING ERPT_BINDING_COUNTERS
-#include "common/erpt_chain.glsl"
+#include "methods/energy_redistribution/erpt_chain.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_CHAINS, scalar) buffer ChainBuffer { ChainState chains[]; };
 

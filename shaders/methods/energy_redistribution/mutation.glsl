@@ -1,12 +1,12 @@
 // The mutation contract (Mitsuba 0.6 bidir/mutator.h shape): a perturbation says whether it
 // applies to a path, proposes a new path into the chain's other slot, and returns what the
 // Metropolis-Hastings acceptance needs: the target function of both paths in its own measure
-// (common/path_space.glsl) and the ratio of transition densities T(y->x) / T(x->y) in that
+// (path_space.glsl) and the ratio of transition densities T(y->x) / T(x->y) in that
 // measure. Counting proposals and acceptances per type is the caller's job.
 #ifndef PMCR_MUTATION_GLSL
 #define PMCR_MUTATION_GLSL
 
-#include "common/path_space.glsl"
+#include "methods/energy_redistribution/path_space.glsl"
 #include "common/rng.glsl"
 
 struct MutationResult {

@@ -5,10 +5,10 @@
 // E = seedScale * sum_s lum(c_s) (PMC-ER eq. 2, in units of e_d). In expectation path s then
 // carries lum(c_s) seedScale, the energy it would carry on its own (as ERPT's chain counts do).
 // With ERPT_FLAG_DEPOSIT_DIRECT (--redistribute indirect) the direct seed paths
-// (common/seed_paths.glsl isDirectSeed) are deposited at the sample's pixel instead, as path
-// tracing would, and the member is made of the others: unbiased term by term (ERPT sec. 3.2),
-// and with the per-pixel stratified pool (host/methods/pmc_er/stratified_pixel_pool.h) the direct
-// part is exactly a path tracer's.
+// (methods/energy_redistribution/seed_paths.glsl isDirectSeed) are deposited at the sample's pixel
+// instead, as path tracing would, and the member is made of the others: unbiased term by term (ERPT
+// sec. 3.2), and with the per-pixel stratified pool (host/methods/pmc_er/stratified_pixel_pool.h)
+// the direct part is exactly a path tracer's.
 // Equal births (the default) give every member the same E_remain = Q and n = floor(U + E / Q)
 // shares (e_d per deposit), so that no member's lifetime depends on its path; the paper's births
 // give E_remain = E and one share (host/methods/pmc_er/path_population.h says why that is biased).
@@ -20,9 +20,9 @@
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { PmcErPush push; };
-#include "common/path_space.glsl"
-#include "common/seed_paths.glsl"
-#include "common/splat.glsl"
+#include "methods/energy_redistribution/path_space.glsl"
+#include "methods/energy_redistribution/seed_paths.glsl"
+#include "methods/energy_redistribution/splat.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_CHAINS, scalar) writeonly buffer ChainBuffer {
     ChainState chains[];

@@ -8,8 +8,8 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { PtPush push; };
 
 #include "common/film.glsl"
-#include "common/path_tracer.glsl"
+#include "methods/pt/path_tracer.glsl"
 
 // Paths in turn from pathBegin / pathBounce / pathEnd (camera_sample_kernel.glsl).
 #define CAMERA_SAMPLE_PATH_STATES
-#include "common/camera_sample_kernel.glsl"
+#include "methods/pt/camera_sample_kernel.glsl"

@@ -7,9 +7,9 @@
 #define PMCR_ERPT_CHAIN_GLSL
 
 #include "common/film.glsl"
-#include "common/mutate_caustic.glsl"
-#include "common/mutate_lens.glsl"
-#include "common/splat.glsl"
+#include "methods/energy_redistribution/mutate_caustic.glsl"
+#include "methods/energy_redistribution/mutate_lens.glsl"
+#include "methods/energy_redistribution/splat.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_PIXEL_STATS, scalar) buffer PixelStatsBuffer {
     PixelChainStats pixelStats[];

@@ -7,11 +7,11 @@
 //    until two non-specular vertices follow each other ("E S* D (S+ D)* (D|L)").
 // A proposal that changes the type sequence, misses, is occluded or leaves the image is invalid.
 // The proposal is symmetric in its parameters (disk, and symmetric angle laws), so
-// T(y->x) / T(x->y) = 1 and the acceptance compares F_nu (common/path_space.glsl).
+// T(y->x) / T(x->y) = 1 and the acceptance compares F_nu (path_space.glsl).
 #ifndef PMCR_MUTATE_LENS_GLSL
 #define PMCR_MUTATE_LENS_GLSL
 
-#include "common/mutation.glsl"
+#include "methods/energy_redistribution/mutation.glsl"
 
 // |cos_s| of the direction x_i -> x_i+1 at vertex i of the path at `base` (wo towards x_i-1).
 float outgoingShadingCos(uint base, uint i) {

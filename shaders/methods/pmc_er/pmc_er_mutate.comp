@@ -6,7 +6,7 @@
 // d_k, is accepted with that component's own transition density (eq. 9, Tierney 1998; with
 // PMC_ER_FLAG_MIXTURE_ACCEPTANCE, with the density of the mixture over the radii, eq. 8), and
 // `shares` e_d are deposited at the (new) current path's pixel with its colour
-// (common/erpt_chain.glsl).
+// (methods/energy_redistribution/erpt_chain.glsl).
 //
 // Bookkeeping: each mutation takes one from E_remain. When less than one is left, Russian
 // roulette: the member makes its last mutation with probability E_remain and dies either way,
@@ -19,7 +19,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { PmcErPush push; };
 #define FILM_BINDING ERPT_BINDING_SPLAT
 #define COUNTERS_BINDING ERPT_BINDING_COUNTERS
-#include "common/erpt_chain.glsl"
+#include "methods/energy_redistribution/erpt_chain.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_CHAINS, scalar) buffer ChainBuffer { ChainState chains[]; };
 layout(set = WORK_SET, binding = PMC_ER_BINDING_MEMBERS, scalar) buffer MemberBuffer {

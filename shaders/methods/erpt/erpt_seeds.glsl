@@ -1,11 +1,11 @@
-// ERPT's seeds (common/seed_paths.glsl) and how many chains each starts.
+// ERPT's seeds (methods/energy_redistribution/seed_paths.glsl) and how many chains each starts.
 //
 // Equal deposition (ERPT fig. 6): a path of energy e starts numChains = floor(U + e / (m e_d))
 // chains of m mutations, each depositing e_d per mutation; E[numChains m e_d] = e, unbiased.
 #ifndef PMCR_ERPT_SEEDS_GLSL
 #define PMCR_ERPT_SEEDS_GLSL
 
-#include "common/seed_paths.glsl"
+#include "methods/energy_redistribution/seed_paths.glsl"
 
 // Chains started by seed path s of record r; the random number comes from (seed, pass, r, s)
 // so that the counting and the writing kernels agree.

@@ -8,10 +8,10 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { PtPush push; };
 
 #include "common/film.glsl"
-#include "common/path_tracer.glsl"
+#include "methods/pt/path_tracer.glsl"
 
 vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint rays, uint recordIndex) {
     return directLighting(raster, s, push.lightSamples, rays);
 }
 
-#include "common/camera_sample_kernel.glsl"
+#include "methods/pt/camera_sample_kernel.glsl"

@@ -8,8 +8,8 @@
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { ErptPush push; };
-#include "common/path_space.glsl"
-#include "common/erpt_seeds.glsl"
+#include "methods/energy_redistribution/path_space.glsl"
+#include "methods/erpt/erpt_seeds.glsl"
 
 layout(set = WORK_SET, binding = ERPT_BINDING_CHAIN_OFFSETS, scalar) readonly buffer OffsetBuffer {
     uint chainOffsets[];

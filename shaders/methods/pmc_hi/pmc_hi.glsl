@@ -3,7 +3,7 @@
 // reflected at a shading point runs a tiny population Monte Carlo over incident directions.
 //
 // Kernel (eq. 7): K = a_BSDF h_BSDF + sum_l a_l h_l + a_cone h_cone, one light component per
-// light (shaders/common/light_groups.glsl) or one shared by all (the group of all emitters).
+// light (light_groups.glsl) or one shared by all (the group of all emitters).
 // Each iteration draws N = populationPerComponent * m directions (m = slots in use, the cone
 // included; iteration 0 initialPopulationPerComponent * m) by deterministic mixture sampling,
 // traces one ray per direction and weights it by w = f / K (eq. 8, the full mixture:
@@ -27,7 +27,7 @@
 #ifndef PMCR_PMC_HI_GLSL
 #define PMCR_PMC_HI_GLSL
 
-#include "common/light_groups.glsl"
+#include "methods/pmc_hi/light_groups.glsl"
 #include "common/sampler.glsl"
 #include "common/shading.glsl"
 

@@ -15,7 +15,7 @@
 #ifndef PMCR_MUTATE_CAUSTIC_GLSL
 #define PMCR_MUTATE_CAUSTIC_GLSL
 
-#include "common/mutation.glsl"
+#include "methods/energy_redistribution/mutation.glsl"
 
 // Index of the head x_h: the first non-specular vertex after x1. Returns 0 when the caustic
 // perturbation does not apply (x1 specular or an emitter, or a path of one vertex).
@@ -28,7 +28,7 @@ uint causticHead(uint base, uint k) {
     return 0u;
 }
 
-// Gamma of the caustic measure (common/path_space.glsl) for the path at `base` with head h.
+// Gamma of the caustic measure (path_space.glsl) for the path at `base` with head h.
 float causticGamma(uint base, uint h) {
     SurfacePoint x1 = pathPoint(base, 0u);
     SurfacePoint x2 = pathPoint(base, 1u);
