@@ -1,5 +1,6 @@
 #include "cli/render_command.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "core/error.h"
@@ -102,8 +103,12 @@ int runRender(const RenderCommand& command) {
                     (unsigned long long)st["rays"].get<uint64_t>(), st["rays_per_second"].get<double>());
         std::printf("NaN/Inf dropped   %llu\n", (unsigned long long)st["nan_samples_dropped"].get<uint64_t>());
         std::printf("GPU time          %.1f ms\n", st["gpu_milliseconds"].get<double>());
+        // Kernels by name, their paths under shaders/ ("methods/pmc_er/pmc_er_mutate"): one column.
+        int nameWidth = 16;
         for (const auto& [name, k] : st["gpu_kernels"].items())
-            std::printf("  %-16s %10.1f ms  %6llu dispatches\n", name.c_str(),
+            nameWidth = std::max(nameWidth, int(name.size()));
+        for (const auto& [name, k] : st["gpu_kernels"].items())
+            std::printf("  %-*s %10.1f ms  %6llu dispatches\n", nameWidth, name.c_str(),
                         k["milliseconds"].get<double>(), (unsigned long long)k["dispatches"].get<uint64_t>());
         // The method's own figures (ERPT: chains started, proposals and acceptance per
         // mutation type, dropped deposits), as in the stats JSON's method_stats.

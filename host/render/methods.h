@@ -2,34 +2,13 @@
 // `render --method`, `--help` and `bench --methods`.
 #pragma once
 
-#include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include "render/integrator.h"
+#include "render/method_info.h"
 #include "render/settings.h"
 
 namespace pmcr {
-
-struct MethodOption {
-    std::string name;          // "chain-length" for --chain-length
-    std::string defaultValue;
-    std::string help;
-    bool biased = false;       // a biased option (ERPT's noise filters): labelled in --help
-};
-
-struct MethodInfo {
-    std::string name;
-    std::string summary;
-    bool unbiased = true;
-    std::vector<MethodOption> options;
-    // Empty when the method is not implemented yet; `plannedIn` then says where it is tracked.
-    // Creating an integrator only parses its options (throwing pmcr::Error for a bad value) and
-    // touches no device: `pmcr bench` creates each method once to check its options up front.
-    std::function<std::unique_ptr<Integrator>(const RenderSettings&)> create;
-    std::string plannedIn;
-};
 
 const std::vector<MethodInfo>& methods();
 const MethodInfo* findMethod(const std::string& name);

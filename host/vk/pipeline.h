@@ -17,7 +17,8 @@ namespace pmcr::vk {
 class Context;
 class Buffer;
 
-// SPIR-V embedded at build time (cmake/Shaders.cmake), by name: "pt", "tests/rng_test", ...
+// SPIR-V embedded at build time (cmake/Shaders.cmake), by name: the shader's path under shaders/
+// without .comp, "methods/pt/pt", "tests/rng_test", ...
 std::span<const uint32_t> spirv(const std::string& name);
 
 class PipelineLayout {

@@ -1,7 +1,7 @@
 // PMC energy redistribution (Lai, Fan, Chenney and Dyer 2007): the population of light paths.
 // Member i's path lives in chain slot i (shared/chain_types.h ChainState, two vertex slots);
 // its bookkeeping is a PmcErMember. The host resamples and adapts between iterations
-// (host/render/path_population.h); the kernels mutate and deposit.
+// (host/methods/pmc_er/path_population.h); the kernels mutate and deposit.
 
 PMCR_CONST uint PMC_ER_MAX_RADII = 3;  // strategy image: red, green, blue
 

@@ -1,5 +1,5 @@
 // PMC-HI, the adaptive direct-lighting sampler (Fan et al., sec. 5): its mixture's component
-// slots, limits and dispatch parameters. The maths is in shaders/common/pmc_hi.glsl.
+// slots, limits and dispatch parameters. The maths is in shaders/methods/pmc_hi/pmc_hi.glsl.
 
 // Mixture components, by slot: the BSDF, the cone around important directions, then one per
 // light (PMC_HI_LIGHT + l for light l), or a single one for all lights when they are shared.

@@ -26,8 +26,8 @@
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
 
-#include "common/mutate_caustic.glsl"
-#include "common/mutate_lens.glsl"
+#include "methods/energy_redistribution/mutate_caustic.glsl"
+#include "methods/energy_redistribution/mutate_lens.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(set = WORK_SET, binding = 0, scalar) writeonly buffer Results { vec4 results[]; };

@@ -1,6 +1,6 @@
 #version 460
-// Test kernel for shaders/common/pmc_hi.glsl (tests/gpu/test_pmc_hi.cpp), on the bound scene
-// and the mixture in `setup`. u's come from rngCreate(hashCombine(i, seed)).
+// Test kernel for shaders/methods/pmc_hi/pmc_hi.glsl (tests/gpu/test_pmc_hi.cpp), on the bound
+// scene and the mixture in `setup`. u's come from rngCreate(hashCombine(i, seed)).
 //   mode 0: pmcHiAllocate(alpha, m, N, u = (i + 1/2) / count): results[3i .. 3i+2] = counts of
 //           slots 0..11
 //   mode 1: component k drawn with probability alpha_k, then pmcHiDrawDirection:
@@ -11,7 +11,7 @@
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
 
-#include "common/pmc_hi.glsl"
+#include "methods/pmc_hi/pmc_hi.glsl"
 #include "common/rng.glsl"
 
 layout(local_size_x = WORKGROUP_SIZE) in;

@@ -44,7 +44,7 @@ grep -q "^device: " "$tmp/a.err" || fail "the chosen device is not printed"
 for key in "render time" "rays traced" "NaN/Inf dropped" "GPU time"; do
     grep -q "^$key" "$tmp/stats" || fail "--stats lacks '$key': $(cat "$tmp/stats")"
 done
-grep -qE '^  pt +[0-9.]+ ms +[0-9]+ dispatches' "$tmp/stats" ||
+grep -qE '^  methods/pt/pt +[0-9.]+ ms +[0-9]+ dispatches' "$tmp/stats" ||
     fail "--stats lacks the pt kernel's GPU time: $(cat "$tmp/stats")"
 # ERPT's --stats add its own figures: chains, proposals and acceptance per mutation type.
 "$pmcr" render "$src/scenes/cornell-glass.glb" --method erpt --spp 1 --chain-length 4 \
@@ -53,5 +53,5 @@ for key in chains_started lens_proposed lens_acceptance caustic_proposed caustic
            invalid_proposals deposits_dropped energy_not_deposited deposited_vs_seed_energy; do
     grep -qE "^  $key +[0-9.e+-]+$" "$tmp/erpt-stats" || fail "erpt --stats lacks $key: $(cat "$tmp/erpt-stats")"
 done
-grep -qE '^  erpt_chains +[0-9.]+ ms' "$tmp/erpt-stats" || fail "erpt --stats lacks the chain kernel's GPU time"
+grep -qE '^  methods/erpt/erpt_chains +[0-9.]+ ms' "$tmp/erpt-stats" || fail "erpt --stats lacks the chain kernel's GPU time"
 echo ok

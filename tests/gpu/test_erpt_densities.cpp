@@ -1,6 +1,6 @@
-// The densities in ERPT's Metropolis-Hastings acceptance (shaders/common/path_space.glsl,
-// mutate_lens.glsl, mutate_caustic.glsl), against numerical estimates, on paths the pt_record
-// kernel records in cornell-glass:
+// The densities in ERPT's Metropolis-Hastings acceptance
+// (shaders/methods/energy_redistribution/path_space.glsl, mutate_lens.glsl, mutate_caustic.glsl),
+// against numerical estimates, on paths the pt_record kernel records in cornell-glass:
 //  - the Jacobians the target function F_nu = lum(P) Gamma carries: rasterDensity = |du/dA(x1)|,
 //    reconnectionFactor / |cos_s| = |dw/dA(x2)| and the caustic Gamma / |cos_s(x1 -> x2)| =
 //    |d(u, w_1) / d(A_h, w_h)| (etendue through the specular chain), each against central
@@ -24,7 +24,7 @@
 
 #include "distribution_test.h"
 #include "gpu_test.h"
-#include "render/path_records.h"
+#include "methods/energy_redistribution/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "statistics.h"
@@ -89,7 +89,7 @@ protected:
     // them (every implicit and explicit path of a record with a non-zero contribution).
     std::vector<ChainPath> recordPaths(uint32_t passes) {
         const uint32_t pixels = kSize * kSize;
-        vk::Kernel ptRecord(m_session->layout(), "pt_record");
+        vk::Kernel ptRecord(m_session->layout(), "methods/pt/pt_record");
         PathRecords recorded(context(), pixels, "test path");
         vk::DescriptorSet work(m_session->layout(), vk::DescriptorSet::Kind::Work, "record work");
         recorded.bindTracer(work, *m_session, m_session->placeholder());

@@ -12,7 +12,7 @@
 // dispatch far below 65535. BVH traversal takes tens to a few hundred iterations per ray (one per
 // interior node or triangle tested), a camera sample at most 2 * (max depth + 1) rays, an
 // invocation of pt or pt_record at most 64 camera samples (64 passes of one pixel, or up to 32
-// pixels or requests in turn; render/pt_integrator.h), and
+// pixels or requests in turn; methods/pt/pt_integrator.h), and
 // Markov-chain kernels advance a bounded number of mutations per dispatch. A traversal cut short would be silent (the kernels do not
 // count truncated traversals); tests/gpu/test_bvh_traversal.cpp checks that GPU traversals of
 // the default scene and of the 200k-triangle dragon give the host's hits. Real GPUs have no

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "gpu_test.h"
-#include "render/path_records.h"
+#include "methods/energy_redistribution/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "vk/command_batch.h"
@@ -42,8 +42,8 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
     RenderSession session(context(), scene, settings, 32, 32);
     const uint32_t pixels = 32 * 32;
 
-    vk::Kernel pt(session.layout(), "pt");
-    vk::Kernel ptRecord(session.layout(), "pt_record");
+    vk::Kernel pt(session.layout(), "methods/pt/pt");
+    vk::Kernel ptRecord(session.layout(), "methods/pt/pt_record");
     Film& film = session.film();
     pmcr::PathRecords paths(context(), pixels, "test path");
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "record work");

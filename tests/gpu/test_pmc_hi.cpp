@@ -1,7 +1,7 @@
-// shaders/common/pmc_hi.glsl: deterministic mixture sampling against a C++ reference (counts
-// sum to N, their mean is N alpha), the cone density integrating to 1, and the mixture density
-// K (eq. 7) equal to the density of what drawing a component by alpha and then a direction from
-// it produces (chi-square over the sphere at a fixed shading point lit by two lights, with one
+// shaders/methods/pmc_hi/pmc_hi.glsl: deterministic mixture sampling against a C++ reference
+// (counts sum to N, their mean is N alpha), the cone density integrating to 1, and the mixture
+// density K (eq. 7) equal to the density of what drawing a component by alpha and then a direction
+// from it produces (chi-square over the sphere at a fixed shading point lit by two lights, with one
 // component per light and with one shared).
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The per-camera-sample kernels with PT_SOURCE_TILE (shaders/common/camera_sample_kernel.glsl):
+// The per-camera-sample kernels with PT_SOURCE_TILE (shaders/methods/pt/camera_sample_kernel.glsl):
 // several passes in one dispatch (samplesPerPixel > 1, as pt does on small images) must leave
 // the film exactly as one dispatch per pass does, so an image does not depend on how the
 // dispatch sizer, which follows the clock, split the passes; and pt.comp's paths in turn
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "gpu_test.h"
-#include "render/pt_integrator.h"
+#include "methods/pt/pt_integrator.h"
 #include "render/session.h"
 #include "render_test.h"
 #include "vk/command_batch.h"
@@ -100,13 +100,14 @@ TEST_P(PtDispatch, SeveralPassesInOneDispatchGiveTheSameFilm) {
     expectSameFilm(onePerDispatch, render(2), passes, "two passes per dispatch");
 }
 
-INSTANTIATE_TEST_SUITE_P(Kernels, PtDispatch, ::testing::Values("pt", "direct"));
+INSTANTIATE_TEST_SUITE_P(Kernels, PtDispatch,
+                         ::testing::Values("methods/pt/pt", "methods/pt/direct"));
 
 // pt.comp's paths in turn: however many pixels each invocation takes, every pixel gets the
 // same samples in the same order from one writer, so the film is the same bit for bit; a tile
 // whose pixel count is not a multiple of P, and a tile that does not start at pixel 0, included.
 TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
-    TileRig rig(context(), 23, 19, "pt");
+    TileRig rig(context(), 23, 19, "methods/pt/pt");
     const uint32_t pixels = 23 * 19;
     // The image in two tiles (pixels [0, 100) and [100, pixels)), 3 passes, P pixels each.
     auto render = [&](uint32_t P) {
@@ -131,7 +132,7 @@ TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
 // bit for bit whatever the number of requests per invocation, for pixel-sequence requests and
 // for given raster positions.
 TEST_F(GpuTest, PtRequestsPerInvocationLeaveTheResultsUnchanged) {
-    TileRig rig(context(), 16, 16, "pt");
+    TileRig rig(context(), 16, 16, "methods/pt/pt");
     std::vector<gpu::SampleRequest> requests(301);
     for (uint32_t i = 0; i < requests.size(); ++i) {
         const uint32_t pixel = (i * 37u) % 256u;

@@ -7,7 +7,7 @@
 #include <numeric>
 #include <random>
 
-#include "render/image_plane_sampler.h"
+#include "methods/pmc_ip/image_plane_sampler.h"
 #include "statistics.h"
 
 namespace pmcr {

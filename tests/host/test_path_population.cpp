@@ -1,4 +1,4 @@
-// PMC-ER's host side (render/path_population.h) on hand-made populations: the alpha update
+// PMC-ER's host side (methods/pmc_er/path_population.h) on hand-made populations: the alpha update
 // against the paper's formula (and its partial form, --adapt-rate), the survival probabilities (proportional to remaining energy,
 // capped at one, summing to the survivors), systematic sampling's inclusion frequencies
 // (chi-square), the energy invariant of elimination (survivors carry E / p) and the list of
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "render/path_population.h"
+#include "methods/pmc_er/path_population.h"
 #include "statistics.h"
 
 namespace pmcr::test {

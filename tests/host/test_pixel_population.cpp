@@ -1,5 +1,5 @@
-// PMC-PT's host side (render/pixel_population.h) against direct references: disk sampling and
-// a step's proposals against their expected counts over brute-force pixel disks (chi-square),
+// PMC-PT's host side (methods/pmc_pt/pixel_population.h) against direct references: disk sampling
+// and a step's proposals against their expected counts over brute-force pixel disks (chi-square),
 // the alpha and beta updates against the paper's formulas, the pool's stratification and the
 // resampling proportions; and the option lists of radii.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "image/tvi.h"
-#include "render/pixel_population.h"
+#include "methods/pmc_pt/pixel_population.h"
 #include "render/settings.h"
 #include "statistics.h"
 

@@ -1,13 +1,13 @@
-// PMC-ER's per-pixel stratified pool (render/stratified_pixel_pool.h): every pixel gets exactly
-// one sample per round, the rounds of consecutive passes are consecutive samples of the pixel's
-// sampler sequence (whose points are uniform over the pixel and stratified among themselves:
-// tests/gpu/test_sampler.cpp), and consecutive samples are spread over the image.
+// PMC-ER's per-pixel stratified pool (methods/pmc_er/stratified_pixel_pool.h): every pixel gets
+// exactly one sample per round, the rounds of consecutive passes are consecutive samples of the
+// pixel's sampler sequence (whose points are uniform over the pixel and stratified among
+// themselves: tests/gpu/test_sampler.cpp), and consecutive samples are spread over the image.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
 
-#include "render/stratified_pixel_pool.h"
+#include "methods/pmc_er/stratified_pixel_pool.h"
 
 namespace pmcr::test {
 namespace {

@@ -1,7 +1,7 @@
 // PMC-ER is unbiased: the mean image of independent renders equals path tracing's, pixel by
 // pixel; the furnace gives its analytic answer; the deposits equal the seeds' energy in
-// expectation (render/path_population.h's invariant); and a seed gives the same image bit for
-// bit.
+// expectation (methods/pmc_er/path_population.h's invariant); and a seed gives the same image bit
+// for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -93,7 +93,7 @@ TEST_F(PmcErTest, FurnaceGivesItsAnalyticValue) {
 // power: the paper's births (--birth path) with 16 mutations per iteration fail it on 18 of
 // these 400 pixels with 16 passes (68 with 8 passes under an older kernel; with the 4 mutations
 // below their bias is too small to see), too bright where the image is dark and too dark where
-// it is bright (host/render/path_population.h).
+// it is bright (host/methods/pmc_er/path_population.h).
 PixelTestResult zTestAgainstPathTracing(const Scene& scene, const RenderSettings& s) {
     RenderSettings pt = s;
     pt.method = "pt";

@@ -138,7 +138,7 @@ BiasEvidence measureBias(const RenderSettings& pmc, int pmcRenders, const ImageM
 }
 
 // Measures the bias of the paper's plain average next to the weighted estimator (run with
-// --gtest_also_run_disabled_tests; the numbers are quoted in render/pmc_pt_integrator.h).
+// --gtest_also_run_disabled_tests; the numbers are quoted in methods/pmc_pt/pmc_pt_integrator.h).
 TEST_F(PmcPtTest, DISABLED_MeasurePlainAverageBias) {
     const int renders = 100;
     RenderSettings s = pmcPtSettings(24, 16);

@@ -1,0 +1,44 @@
+#include "methods/energy_redistribution/energy_estimate.h"
+
+#include "methods/pt/pt_integrator.h"
+#include "scene/scene.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
+    const RenderSettings& s = session.settings();
+    Film film(session.context(), session.width(), session.height());
+    const vk::Kernel& kernel = session.kernel("methods/pt/pt");
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "energy pre-pass");
+    bindTileWork(work, film, session);
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.samplesPerPixel = 1;
+    push.seed = s.seed ^ 0x9e3779b9u;  // independent of the samples the method itself draws
+    push.maxDepth = s.maxDepth;
+    push.rrDepth = s.rrDepth;
+    const uint32_t pixels = film.pixelCount();
+    const uint32_t chunk = session.context().isCpuDevice() ? 16384u : pixels;
+    for (uint32_t pass = 0; pass < spp; ++pass) {
+        for (uint32_t offset = 0; offset < pixels; offset += chunk) {
+            vk::CommandBatch batch(session.layout(), &session.timer());
+            batch.bind(session.scene().descriptorSet());
+            batch.bind(work);
+            push.pixelOffset = offset;
+            push.invocationCount = std::min(chunk, pixels - offset);
+            push.sampleBase = pass;
+            batch.dispatch(kernel, push, push.invocationCount);
+            batch.submitAndWait();
+        }
+    }
+    film.addCounters(session.counters());
+    double sum = 0.0;
+    for (const auto& p : film.download())
+        if (p.sampleCount > 0) sum += double(luminance(p.sum / float(p.sampleCount)));
+    return sum / double(pixels);
+}
+
+}  // namespace pmcr

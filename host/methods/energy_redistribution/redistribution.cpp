@@ -1,0 +1,56 @@
+#include "methods/energy_redistribution/redistribution.h"
+
+#include <limits>
+
+#include "shared/host_device.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+RedistributionBatch::RedistributionBatch(RenderSession& session)
+    : m_session(session),
+      m_batch(session.layout(), &session.timer()),
+      m_energy(session.context(), gpu::ENERGY_SLOTS * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "redistribution energy",
+               vk::MemoryUsage::Readback) {}
+
+void RedistributionBatch::begin() {
+    m_batch.fill(m_session.film().counters(), 0);
+    m_batch.fill(m_energy, 0);
+    m_batch.bind(m_session.scene().descriptorSet());
+}
+
+void RedistributionBatch::submit() {
+    m_batch.submitAndWait();
+    m_session.film().addCounters(m_session.counters());
+    float e[gpu::ENERGY_SLOTS];
+    m_energy.download(e, sizeof(e));
+    m_seedEnergy += e[gpu::ENERGY_SEED];
+    m_depositedEnergy += e[gpu::ENERGY_DEPOSITED];
+    m_directEnergy += e[gpu::ENERGY_DIRECT];
+}
+
+void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
+                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes) {
+    splat.completePass();
+    session.snapshotIfDue(uint64_t(splat.completedPasses()) * pathsPerPass,
+                          [&] { return splat.resolve(depositEnergy); });
+    const double fraction = passes != std::numeric_limits<uint32_t>::max()
+                                ? double(pass + 1) / double(passes)
+                                : session.elapsedSeconds() / session.settings().timeLimit;
+    session.progress().update(fraction, double(pass + 1), "passes");
+}
+
+nlohmann::json mutationStatistics(const Counters& c) {
+    auto ratio = [](uint64_t a, uint64_t b) { return b > 0 ? double(a) / double(b) : 0.0; };
+    return {
+        {"lens_proposed", c.values[gpu::COUNTER_LENS_PROPOSED]},
+        {"lens_acceptance", ratio(c.values[gpu::COUNTER_LENS_ACCEPTED], c.values[gpu::COUNTER_LENS_PROPOSED])},
+        {"caustic_proposed", c.values[gpu::COUNTER_CAUSTIC_PROPOSED]},
+        {"caustic_acceptance", ratio(c.values[gpu::COUNTER_CAUSTIC_ACCEPTED], c.values[gpu::COUNTER_CAUSTIC_PROPOSED])},
+        {"invalid_proposals", c.values[gpu::COUNTER_INVALID_PROPOSALS]},
+        {"deposits", c.values[gpu::COUNTER_DEPOSITS]},
+        {"deposits_dropped", c.values[gpu::COUNTER_DEPOSITS_DROPPED]},
+    };
+}
+
+}  // namespace pmcr

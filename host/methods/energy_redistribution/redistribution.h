@@ -1,0 +1,49 @@
+// What the energy-redistribution methods (ERPT, PMC-ER) share on the host: a command batch that
+// clears and reads back the kernels' counters and their seed, deposited and directly deposited
+// energy sums (shared/chain_types.h ERPT_BINDING_ENERGY), and the mutation statistics they report.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "methods/energy_redistribution/splat_film.h"
+#include "render/session.h"
+#include "vk/buffer.h"
+#include "vk/command_batch.h"
+
+namespace pmcr {
+
+class RedistributionBatch {
+public:
+    explicit RedistributionBatch(RenderSession& session);
+
+    vk::CommandBatch& batch() { return m_batch; }
+    // float[3] the kernels add seed, deposited and directly deposited energy to (units of e_d).
+    const vk::Buffer& energy() const { return m_energy; }
+    // Starts recording: clears the counters and the energy sums, binds the scene.
+    void begin();
+    // Submits, waits, and adds the batch's counters and energies to the totals.
+    void submit();
+
+    double seedEnergy() const { return m_seedEnergy; }
+    double depositedEnergy() const { return m_depositedEnergy; }
+    double directEnergy() const { return m_directEnergy; }
+
+private:
+    RenderSession& m_session;
+    vk::CommandBatch m_batch;
+    vk::Buffer m_energy;
+    double m_seedEnergy = 0.0;
+    double m_depositedEnergy = 0.0;
+    double m_directEnergy = 0.0;
+};
+
+// Ends seed pass `pass` (0-based) of `passes` (UINT32_MAX: as many as --time allows): the device film's
+// deposits join the completed passes, a snapshot is written if one is due (`pathsPerPass`
+// path-traced paths per pass), and the progress bar moves by passes, or by time.
+void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
+                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes);
+
+// Proposals and acceptance per perturbation type, invalid proposals, deposits and drops.
+nlohmann::json mutationStatistics(const Counters& counters);
+
+}  // namespace pmcr

@@ -1,0 +1,31 @@
+#include "methods/energy_redistribution/splat_film.h"
+
+#include "vk/context.h"
+
+namespace pmcr {
+
+SplatFilm::SplatFilm(vk::Context& context, int width, int height)
+    : m_width(width),
+      m_height(height),
+      m_pixels(context, VkDeviceSize(width) * VkDeviceSize(height) * sizeof(gpu::SplatPixel),
+               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "splat film"),
+      m_accumulated(size_t(width) * size_t(height) * 3, 0) {
+    m_pixels.fill(0);
+}
+
+void SplatFilm::completePass() {
+    auto pass = m_pixels.download<uint64_t>(m_accumulated.size());
+    for (size_t i = 0; i < pass.size(); ++i) m_accumulated[i] += pass[i];
+    m_pixels.fill(0);
+    ++m_passes;
+}
+
+Image SplatFilm::resolve(float depositEnergy) const {
+    Image image(m_width, m_height);
+    if (m_passes == 0) return image;
+    const double scale = double(depositEnergy) / double(gpu::SPLAT_QUANTA_PER_DEPOSIT) / m_passes;
+    for (size_t i = 0; i < m_accumulated.size(); ++i) image.rgb[i] = float(double(m_accumulated[i]) * scale);
+    return image;
+}
+
+}  // namespace pmcr

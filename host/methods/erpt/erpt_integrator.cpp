@@ -1,0 +1,305 @@
+#include "methods/erpt/erpt_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "methods/energy_redistribution/energy_estimate.h"
+#include "methods/energy_redistribution/path_records.h"
+#include "methods/energy_redistribution/redistribution.h"
+#include "methods/energy_redistribution/splat_film.h"
+#include "methods/pt/pt_integrator.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+constexpr uint32_t kRecordChunk = 16384;   // pixels whose records are held at once
+constexpr uint32_t kChainCapacity = 65536; // chains alive at once
+
+uint32_t parseMutationMode(const std::string& name) {
+    if (name == "erpt") return gpu::MUTATION_ERPT;
+    if (name == "mix") return gpu::MUTATION_MIX;
+    if (name == "lens") return gpu::MUTATION_LENS;
+    if (name == "caustic") return gpu::MUTATION_CAUSTIC;
+    throw Error("--mutation: expected erpt, mix, lens or caustic, got '" + name + "'");
+}
+
+}  // namespace
+
+ErptOptions ErptOptions::fromSettings(const RenderSettings& s) {
+    ErptOptions o;
+    const int chainLength = s.optionInt("chain-length", int(o.chainLength));
+    if (chainLength < 1 || chainLength > 100000) throw Error("--chain-length: expected 1..100000");
+    o.chainLength = uint32_t(chainLength);
+    o.mutationsPerPixel = s.optionDouble("mutations-per-pixel", o.mutationsPerPixel);
+    if (!(o.mutationsPerPixel > 0.0)) throw Error("--mutations-per-pixel: expected a positive number");
+    const int prepass = s.optionInt("prepass-spp", int(o.prepassSpp));
+    if (prepass < 1 || prepass > 4096) throw Error("--prepass-spp: expected 1..4096");
+    o.prepassSpp = uint32_t(prepass);
+    o.lensRadius = float(s.optionDouble("lens-radius", o.lensRadius));
+    if (!(o.lensRadius > 0.0f)) throw Error("--lens-radius: expected a positive number of pixels");
+    o.causticThetaMin = float(s.optionDouble("caustic-theta-min", o.causticThetaMin));
+    o.causticThetaMax = float(s.optionDouble("caustic-theta-max", o.causticThetaMax));
+    if (!(o.causticThetaMin > 0.0f) || !(o.causticThetaMax > o.causticThetaMin) || o.causticThetaMax > 1.5f)
+        throw Error("--caustic-theta-min/max: expected 0 < min < max <= 1.5 radians");
+    o.mutationMode = parseMutationMode(s.optionString("mutation", "erpt"));
+    o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
+    if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
+        throw Error("--caustic-probability: expected a probability");
+    o.expectedValues = s.optionBool("expected-values", false);
+    const std::string redistribute = s.optionString("redistribute", "indirect");
+    if (redistribute != "all" && redistribute != "indirect")
+        throw Error("--redistribute: expected all or indirect, got '" + redistribute + "'");
+    o.depositDirect = redistribute == "indirect";
+    o.filterProposalsRadius = s.optionInt("filter-proposals", 0);
+    if (o.filterProposalsRadius < 0 || o.filterProposalsRadius > 32)
+        throw Error("--filter-proposals: expected a box radius 0..32 (0 = off)");
+    const int cap = s.optionInt("filter-consecutive", 0);
+    if (cap < 0) throw Error("--filter-consecutive: expected a count (0 = off)");
+    o.filterConsecutive = uint32_t(cap);
+    const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
+    if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
+    o.stepsPerDispatch = uint32_t(steps);
+    return o;
+}
+
+Erpt::Erpt(const RenderSettings& settings) : m_options(ErptOptions::fromSettings(settings)) {}
+
+void applyProposalFilter(Image& image, const std::vector<uint32_t>& proposals, int radius) {
+    const int w = image.width, h = image.height;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const uint32_t own = proposals[size_t(y) * w + x];
+            if (own == 0) continue;
+            double sum = 0.0;
+            int count = 0;
+            for (int dy = -radius; dy <= radius; ++dy)
+                for (int dx = -radius; dx <= radius; ++dx) {
+                    const int px = x + dx, py = y + dy;
+                    if (px < 0 || py < 0 || px >= w || py >= h) continue;
+                    sum += proposals[size_t(py) * w + px];
+                    ++count;
+                }
+            image.set(x, y, image.at(x, y) * float(sum / count / own));
+        }
+}
+
+RenderOutput Erpt::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const ErptOptions& o = m_options;
+    const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
+    const uint32_t spp = settings.spp > 0 ? settings.spp
+                         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
+                                                    : kDefaultSpp;
+    // Build the pipelines before the clock starts (compilation is not rendering).
+    const vk::Kernel& recordKernel = session.kernel("methods/pt/pt_record");
+    const vk::Kernel& countKernel = session.kernel("methods/erpt/erpt_count");
+    const vk::Kernel& seedKernel = session.kernel("methods/erpt/erpt_seed");
+    const vk::Kernel& chainKernel = session.kernel("methods/erpt/erpt_chains");
+    session.kernel("methods/pt/pt");  // the pre-pass
+    session.startClock();
+
+    // e_d = e_ave / k (ERPT eq. 7).
+    const double meanLuminance = estimateMeanLuminance(session, o.prepassSpp);
+    const float depositEnergy = float(meanLuminance / o.mutationsPerPixel);
+
+    Film& film = session.film();
+    SplatFilm splat(context, session.width(), session.height());
+    const uint32_t recordChunk = std::min(kRecordChunk, pixels);
+    PathRecords records(context, recordChunk, "erpt seed");
+    vk::Buffer counts(context, recordChunk * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      "chain counts", vk::MemoryUsage::Readback);
+    vk::Buffer offsets(context, (recordChunk + 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chain offsets");
+    vk::Buffer chains(context, kChainCapacity * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chains");
+    vk::Buffer chainVertices(context, VkDeviceSize(kChainCapacity) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chain vertices");
+    vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pixel chain stats");
+    pixelStats.fill(0);
+
+    vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "erpt seed pass");
+    records.bindTracer(ptWork, session, session.placeholder());
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "erpt chains");
+    records.bindSeeds(work);
+    work.bind(gpu::ERPT_BINDING_CHAIN_COUNTS, counts);
+    work.bind(gpu::ERPT_BINDING_CHAIN_OFFSETS, offsets);
+    work.bind(gpu::ERPT_BINDING_CHAINS, chains);
+    work.bind(gpu::ERPT_BINDING_CHAIN_VERTICES, chainVertices);
+    work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
+    work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
+
+    gpu::PtPush ptPush{};
+    ptPush.source = gpu::PT_SOURCE_TILE;
+    ptPush.flags = 0;  // records only: the seed samples reach the image through their chains
+    ptPush.samplesPerPixel = 1;
+    ptPush.seed = settings.seed;
+    ptPush.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
+    ptPush.rrDepth = settings.rrDepth;
+
+    gpu::ErptPush push{};
+    push.seed = settings.seed;
+    push.chainLength = o.chainLength;
+    push.mutationMode = o.mutationMode;
+    push.depositEnergy = depositEnergy;
+    push.seedScale = 1.0f;  // one seed sample per pixel per pass; passes are averaged
+    push.lensRadius = o.lensRadius;
+    push.causticThetaMin = o.causticThetaMin;
+    push.causticThetaMax = o.causticThetaMax;
+    push.causticProbability = o.causticProbability;
+    push.flags = (o.expectedValues ? gpu::ERPT_FLAG_EXPECTED_VALUES : 0u) |
+                 (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u);
+    push.consecutiveCap = o.filterConsecutive;
+
+    uint64_t chainsStarted = 0;
+    uint64_t chainSteps = 0;  // mutations run, each depositing e_d in total (equal deposition)
+    DispatchSizer sizer(4096, kChainCapacity, session.targetDispatchSeconds());
+    auto submit = [&]() { batches.submit(); };
+    auto beginBatch = [&]() { batches.begin(); };
+    if (depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
+        for (uint32_t pass = 0; pass < spp && !session.shouldStop(); ++pass) {
+            push.pass = pass;
+            bool interrupted = false;
+            for (uint32_t first = 0; first < pixels && !interrupted; first += recordChunk) {
+                const uint32_t n = std::min(recordChunk, pixels - first);
+                // Seed samples and their chain counts.
+                beginBatch();
+                batch.bind(ptWork);
+                ptPush.pixelOffset = first;
+                ptPush.invocationCount = n;
+                ptPush.sampleBase = pass;
+                ptPush.recordOffset = 0;
+                // pt_record.comp takes several paths per invocation in turn on a CPU device.
+                ptPush.itemsPerInvocation = ptItemsPerInvocation(session.context(), n);
+                batch.dispatch(recordKernel, ptPush, (n + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
+                batch.bind(work);
+                push.recordCount = n;
+                batch.dispatch(countKernel, push, n);
+                submit();
+                auto chainCounts = counts.download<uint32_t>(n);
+                std::vector<uint32_t> prefix(n + 1, 0);
+                uint64_t total = 0;
+                for (uint32_t r = 0; r < n; ++r) {
+                    prefix[r] = uint32_t(total);
+                    total += chainCounts[r];
+                }
+                if (total > std::numeric_limits<uint32_t>::max())
+                    throw Error("erpt: more than 2^32 chains in one pass; raise --chain-length or lower --mutations-per-pixel");
+                prefix[n] = uint32_t(total);
+                offsets.upload(prefix.data(), prefix.size() * sizeof(uint32_t));
+                chainsStarted += total;
+
+                // Run the chains, kChainCapacity at a time, a few mutations per dispatch.
+                for (uint64_t start = 0; start < total && !interrupted; start += kChainCapacity) {
+                    const uint32_t group = uint32_t(std::min<uint64_t>(kChainCapacity, total - start));
+                    beginBatch();
+                    batch.bind(work);
+                    push.chainOffset = uint32_t(start);
+                    push.chainBase = 0;
+                    push.chainCount = group;
+                    batch.dispatch(seedKernel, push, group);
+                    for (uint32_t done = 0; done < o.chainLength;) {
+                        push.steps = std::min(o.stepsPerDispatch, o.chainLength - done);
+                        for (uint32_t c = 0; c < group;) {
+                            push.chainBase = c;
+                            push.chainCount = std::min(sizer.units(), group - c);
+                            const auto t0 = std::chrono::steady_clock::now();
+                            batch.dispatch(chainKernel, push, push.chainCount);
+                            chainSteps += uint64_t(push.chainCount) * push.steps;
+                            submit();
+                            sizer.record(push.chainCount, std::chrono::duration<double>(
+                                                              std::chrono::steady_clock::now() - t0).count());
+                            c += push.chainCount;
+                            beginBatch();
+                            batch.bind(work);
+                        }
+                        done += push.steps;
+                        if (session.interrupted()) {
+                            interrupted = true;
+                            break;
+                        }
+                    }
+                    submit();
+                }
+            }
+            if (interrupted) break;
+            completeRedistributionPass(session, splat, depositEnergy, pixels, pass, spp);
+        }
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    out.image = splat.resolve(depositEnergy);
+    auto stats = pixelStats.download<gpu::PixelChainStats>(pixels);
+    std::vector<uint32_t> proposals(pixels);
+    Image chainsImage(session.width(), session.height()), proposalsImage(session.width(), session.height());
+    for (uint32_t i = 0; i < pixels; ++i) {
+        proposals[i] = stats[i].proposals;
+        const float c = float(stats[i].chainsStarted), p = float(stats[i].proposals);
+        chainsImage.rgb[3 * i] = chainsImage.rgb[3 * i + 1] = chainsImage.rgb[3 * i + 2] = c;
+        proposalsImage.rgb[3 * i] = proposalsImage.rgb[3 * i + 1] = proposalsImage.rgb[3 * i + 2] = p;
+    }
+    if (o.filterProposalsRadius > 0) applyProposalFilter(out.image, proposals, o.filterProposalsRadius);
+    out.diagnostics.push_back({"chains", chainsImage});
+    out.diagnostics.push_back({"proposals", proposalsImage});
+    const int passes = splat.completedPasses();
+    out.cameraSamples = uint64_t(passes) * pixels;
+    out.samplesPerPixel = passes;
+
+    const double seedEnergy = batches.seedEnergy(), depositedEnergy = batches.depositedEnergy();
+    const double directEnergy = batches.directEnergy();
+    out.methodStats = {
+        {"passes", passes},
+        {"mean_luminance_prepass", meanLuminance},
+        {"deposit_energy", depositEnergy},
+        {"chain_length", o.chainLength},
+        {"mutations_per_pixel_per_pass", o.mutationsPerPixel},
+        {"chains_started", chainsStarted},
+        {"seed_energy", seedEnergy},        // in units of e_d, all passes
+        {"deposited_energy", depositedEnergy},
+        {"chain_steps", chainSteps},
+        // The chains' energy that did not land, relative to the e_d per step they carry: zero by
+        // construction (a rejected or invalid proposal still deposits at the current path), up
+        // to float rounding of the sums; only dropped deposits (NaN, biased filters) make it
+        // positive.
+        {"energy_not_deposited", chainSteps > 0 ? 1.0 - depositedEnergy / double(chainSteps) : 0.0},
+        // Deposited relative to seed energy, minus one: zero in expectation only (ERPT sec. 3.2),
+        // it is the noise of the floor(U + e / (m e_d)) chain counts.
+        {"deposited_vs_seed_energy", seedEnergy > 0.0 ? depositedEnergy / seedEnergy - 1.0 : 0.0},
+        // The share of the image's energy deposited straight from direct seed paths
+        // (--redistribute indirect), not by chains.
+        {"direct_energy_share", directEnergy + seedEnergy > 0.0 ? directEnergy / (directEnergy + seedEnergy) : 0.0},
+        {"biased_filters", o.filterProposalsRadius > 0 || o.filterConsecutive > 0},
+    };
+    out.methodStats.update(mutationStatistics(session.counters()));
+    return out;
+}
+
+MethodInfo erptMethod() {
+    return {"erpt", "energy redistribution path tracing (equal deposition, lens and caustic perturbations)",
+        true,
+        {{"chain-length", "100", "mutations per chain, m"},
+         {"mutations-per-pixel", "4", "k: e_d = mean pixel luminance / k, per seed pass (--spp passes)"},
+         {"prepass-spp", "4", "path-traced samples per pixel estimating the mean luminance"},
+         {"lens-radius", "3", "lens perturbation disk radius in pixels (the paper: a 9x9 square)"},
+         {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
+         {"caustic-theta-max", "0.1", "... to (radians)"},
+         {"mutation", "erpt", "erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
+         {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
+         {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
+         {"redistribute", "indirect", "all seed paths, or indirect: the emitter seen directly and direct light at the first hit are deposited at their pixel"},
+         {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
+         {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
+         {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
+        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""};
+}
+
+}  // namespace pmcr

@@ -1,0 +1,39 @@
+// PMC-HI (Fan, Lai, Chenney and Dyer, sec. 5) on the host: its method options, the per-scene
+// kernel parameters (one light component per light up to --max-light-components, else one
+// shared by all) and the diagnostics (the figure 7 alpha maps). Used by `pmc-hi`
+// (methods/pt/pt_integrator.h) and `pmc-ip-hi` (methods/pmc_ip/pmc_ip_integrator.h); the sampler
+// itself is shaders/methods/pmc_hi/pmc_hi.glsl.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/gpu_scene.h"
+#include "render/method_info.h"
+#include "render/session.h"
+#include "shared/host_device.h"
+
+namespace pmcr {
+
+struct PmcHiOptions {
+    gpu::PmcHiParams params{};  // lightComponents and sharedLight: see pmcHiParamsForScene
+    uint32_t maxLightComponents = 4;
+    std::vector<double> initialAlpha;  // --initial-alpha: empty for the paper's
+};
+
+// The options of both PMC-HI methods, for the registry.
+std::vector<MethodOption> pmcHiMethodOptions();
+// Parses them; throws pmcr::Error for a bad value. `iterationsOption` names PMC-HI's iteration
+// count (pmc-ip-hi calls it hi-iterations, its --iterations being PMC-IP's).
+PmcHiOptions parsePmcHiOptions(const RenderSettings& settings,
+                               const std::string& iterationsOption = "iterations");
+// The parameters for a scene: its lights (connected emitters) as components, or one shared.
+gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene);
+
+// Adds the figure 7 maps ("alpha-brdf", "alpha-light0", ..., "alpha-cone": per pixel the mean
+// final alpha of its first-hit estimates) from per-pixel sums laid out as pmc_hi.comp writes
+// them (PMC_HI_ALPHA_STRIDE floats per pixel, the count last), and the method stats.
+void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const GpuScene& scene,
+                     const std::vector<float>& alphaSums, int width, int height);
+
+}  // namespace pmcr

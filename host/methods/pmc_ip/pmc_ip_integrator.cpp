@@ -1,0 +1,328 @@
+#include "methods/pmc_ip/pmc_ip_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/random.h"
+#include "methods/pt/pixel_order.h"
+#include "methods/pt/pt_integrator.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+constexpr uint32_t kMaxRequestsInFlight = 1u << 20;  // per batch: 16 MiB of requests and results
+
+std::vector<MethodOption> pmcIpOptions(bool direct) {
+    std::vector<MethodOption> options = {
+        {"iterations", "0", "adaptive iterations after the first (0: as many as --spp or --time allow)"},
+        {"initial-spp", "4", "samples per pixel of the first, uniform iteration"},
+        {"spp-per-iteration", "4", "average samples per pixel of each adaptive iteration (N / pixels)"},
+        {"epsilon", "0.01", "defensive weight: every pixel's mixture weight is at least epsilon / pixels"},
+        {"min-spp", "1", "pilot samples every pixel gets in every iteration; they alone drive the adaptation"},
+        {"variance-radius", "2", "a pixel's weight comes from its neighbours' pilot variance within this radius"},
+    };
+    if (direct)
+        options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});
+    return options;
+}
+
+std::vector<MethodOption> pmcIpHiOptions() {
+    std::vector<MethodOption> options = pmcIpOptions(false);
+    for (MethodOption& o : pmcHiMethodOptions()) {
+        // PMC-IP's --iterations counts image-plane iterations; PMC-HI's is per estimate.
+        if (o.name == "iterations") o.name = "hi-iterations";
+        options.push_back(o);
+    }
+    options.push_back({"feedback", "on", "seed each pixel's PMC-HI weights from its previous iteration (sec. 6.1)"});
+    return options;
+}
+
+}  // namespace
+
+PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(estimator) {
+    m_options.samplesPerIteration = settings.optionDouble("spp-per-iteration", 4.0);
+    if (!(m_options.samplesPerIteration > 0.0 && m_options.samplesPerIteration <= 4096.0))
+        throw Error("--spp-per-iteration: expected a number of samples per pixel in (0, 4096]");
+    const int initial = settings.optionInt("initial-spp", 4);
+    if (initial < 2 || initial > 4096) throw Error("--initial-spp: expected 2..4096");
+    m_options.initialSpp = uint32_t(initial);
+    m_options.epsilon = settings.optionDouble("epsilon", 0.01);
+    if (!(m_options.epsilon > 0.0 && m_options.epsilon <= 1.0))
+        throw Error("--epsilon: expected 0 < epsilon <= 1 (the defensive weight must be positive)");
+    const int minSamples = settings.optionInt("min-spp", 1);
+    if (minSamples < 0 || double(minSamples) > m_options.samplesPerIteration)
+        throw Error("--min-spp: expected 0..spp-per-iteration");
+    m_options.minSamples = uint32_t(minSamples);
+    m_options.radius = settings.optionInt("variance-radius", 2);
+    if (m_options.radius < 1 || m_options.radius > 16) throw Error("--variance-radius: expected 1..16 pixels");
+    const int iterations = settings.optionInt("iterations", 0);
+    if (iterations < 0) throw Error("--iterations: expected a count (0 = from --spp or --time)");
+    m_iterations = uint32_t(iterations);
+    if (estimator == Estimator::Direct) {
+        const int n = settings.optionInt("light-samples", 1);
+        if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
+        m_lightSamples = uint32_t(n);
+    }
+    if (estimator == Estimator::PmcHi) {
+        m_hi = parsePmcHiOptions(settings, "hi-iterations");
+        m_feedback = settings.optionBool("feedback", true);
+    }
+}
+
+RenderOutput PmcIp::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const vk::Kernel& kernel =
+        session.kernel(m_estimator == Estimator::Full     ? "methods/pt/pt"
+                       : m_estimator == Estimator::Direct ? "methods/pt/direct"
+                                                          : "methods/pmc_hi/pmc_hi");
+    Film& film = session.film();
+    const uint32_t pixels = film.pixelCount();
+    ImagePlaneSampler sampler(film.width(), film.height(), m_options);
+
+    // Adaptive iterations after the first: asked for, or what --spp allows, or unbounded
+    // under --time alone.
+    uint64_t iterations = m_iterations;
+    if (iterations == 0) {
+        const double spp = settings.spp > 0 ? double(settings.spp)
+                           : settings.timeLimit > 0.0 ? std::numeric_limits<double>::infinity()
+                                                      : double(kDefaultSpp);
+        const double rest = spp - double(m_options.initialSpp);
+        iterations = std::isinf(rest) ? std::numeric_limits<uint32_t>::max()
+                     : rest > 0.0    ? uint64_t(std::ceil(rest / m_options.samplesPerIteration - 1e-9))
+                                     : 0;
+    }
+    const uint64_t totalIterations = iterations + 1;
+    // Samples per pixel in all: --spp exactly (the last iteration takes what is left), or what
+    // --iterations asks for.
+    const double budgetSpp = m_iterations == 0 && settings.spp > 0
+                                 ? std::max(double(settings.spp), double(m_options.initialSpp))
+                                 : double(m_options.initialSpp) + double(iterations) * m_options.samplesPerIteration;
+
+    const uint32_t capacity = kMaxRequestsInFlight;
+    vk::Buffer requestBuffer(context, uint64_t(capacity) * sizeof(gpu::SampleRequest),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip requests");
+    vk::Buffer resultBuffer(context, uint64_t(capacity) * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                            "pmc-ip results", vk::MemoryUsage::Readback);
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-ip work");
+    work.bind(gpu::PT_BINDING_FILM, film.pixels());
+    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
+    work.bind(gpu::PT_BINDING_RESULTS, resultBuffer);
+
+    // PMC-HI feedback: the auxiliary image of starting weights (per pixel), each request's final
+    // weights, and this iteration's per-pixel sums of them (count last).
+    const bool pmcHi = m_estimator == Estimator::PmcHi;
+    gpu::PmcHiPush hiPush{};
+    vk::Buffer alphaStart, alphaOut;
+    std::vector<float> auxiliary, iterationSums, requestAlpha;
+    if (pmcHi) {
+        hiPush.hi = pmcHiParamsForScene(m_hi, session.scene());
+        if (m_feedback) hiPush.hi.flags |= gpu::PMC_HI_FLAG_FEEDBACK;
+        auxiliary.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+        iterationSums.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+        alphaStart = vk::Buffer(context, VkDeviceSize(pixels) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha");
+        alphaStart.fill(0);
+        alphaOut = vk::Buffer(context, VkDeviceSize(capacity) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi final alpha", vk::MemoryUsage::Readback);
+        alphaOut.fill(0);  // the kernel writes the slots in use only
+        work.bind(gpu::PMC_HI_BINDING_ALPHA, session.placeholder());
+        work.bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart);
+        work.bind(gpu::PMC_HI_BINDING_ALPHA_OUT, alphaOut);
+    }
+
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_LIST;
+    push.flags = gpu::PT_FLAG_WRITE_RESULTS;
+    push.maxDepth = m_estimator == Estimator::Full ? settings.maxDepth : 1;
+    push.rrDepth = settings.rrDepth;
+    push.lightSamples = m_lightSamples;
+
+    DispatchSizer sizer(std::min<uint32_t>(pixels, 4096), capacity, session.targetDispatchSeconds());
+    const uint32_t dispatchesPerBatch =
+        uint32_t(std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
+    // The residual passes' offsets, and the render seed that scrambles every pixel's sequence
+    // once for the whole render (see image_plane_sampler.h).
+    Pcg32 rng(settings.seed, 0x504d432d4950ULL);  // "PMC-IP"
+    push.seed = rng.nextUint();
+    std::vector<gpu::SampleRequest> requests;
+    std::vector<glm::vec4> results;
+    const std::vector<uint32_t> pixelOrder = mortonPixelOrder(film.width(), film.height());
+    vk::CommandBatch batch(session.layout(), &session.timer());
+    auto resolve = [&] { return sampler.image(); };
+
+    // Host time spent adapting (alpha, DMS) and reducing results, to weigh against the GPU's.
+    double adaptSeconds = 0.0;
+    double reduceSeconds = 0.0;
+    auto since = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+
+    session.startClock();
+    uint64_t iteration = 0;
+    for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
+        const auto adaptStart = std::chrono::steady_clock::now();
+        // The last iteration of a --spp budget takes only what is left of it.
+        const double spp = iteration == 0 ? double(m_options.initialSpp)
+                                          : std::min(m_options.samplesPerIteration,
+                                                     budgetSpp - double(m_options.initialSpp) -
+                                                         double(iteration - 1) * m_options.samplesPerIteration);
+        const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble(), spp);
+        adaptSeconds += since(adaptStart);
+        // Walk the pixels in Morton order (coherent rays), each pixel's samples the next n
+        // points of its sequence.
+        uint32_t next = 0;  // position in pixelOrder
+        uint32_t index = 0;
+        auto nextRequests = [&](uint32_t wanted) {
+            requests.clear();
+            while (requests.size() < wanted && next < pixels) {
+                const uint32_t pixel = pixelOrder[next];
+                if (index >= counts[pixel]) {
+                    ++next;
+                    index = 0;
+                    continue;
+                }
+                requests.push_back({pixel, sampler.sequenceStart(pixel) + index++, glm::vec2(0.0f)});
+            }
+        };
+        for (;;) {
+            if (session.shouldStop()) break;
+            const auto batchStart = std::chrono::steady_clock::now();
+            const uint32_t units = sizer.units();
+            nextRequests(std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch));
+            if (requests.empty()) break;
+            requestBuffer.upload(requests);
+            batch.fill(film.counters(), 0);
+            batch.bind(session.scene().descriptorSet());
+            batch.bind(work);
+            const uint32_t n = uint32_t(requests.size());
+            for (uint32_t offset = 0; offset < n; offset += units) {
+                push.requestOffset = offset;
+                push.recordOffset = offset;  // pmc_hi.comp: request i's final alpha at i
+                push.invocationCount = std::min(units, n - offset);
+                if (pmcHi) {
+                    hiPush.pt = push;
+                    batch.dispatch(kernel, hiPush, push.invocationCount);
+                } else {
+                    // pt.comp takes several requests per invocation in turn on a CPU device.
+                    const uint32_t perInvocation =
+                        m_estimator == Estimator::Full ? ptItemsPerInvocation(context, push.invocationCount) : 1;
+                    push.itemsPerInvocation = perInvocation;
+                    batch.dispatch(kernel, push, (push.invocationCount + perInvocation - 1) / perInvocation);
+                }
+            }
+            const uint32_t dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
+            batch.submitAndWait();
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count();
+            sizer.record(n / dispatches, seconds / dispatches);
+            film.addCounters(session.counters());
+            // Reduce in request order: the same seed gives the same sums.
+            const auto reduceStart = std::chrono::steady_clock::now();
+            results.resize(n);
+            resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
+            for (uint32_t k = 0; k < n; ++k) {
+                const uint32_t pixel = requests[k].pixel;
+                sampler.addSample(pixel, requests[k].sampleIndex - sampler.sequenceStart(pixel), glm::vec3(results[k]));
+            }
+            if (pmcHi) {
+                // Each pixel's sum of its samples' final weights this iteration.
+                requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
+                alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
+                for (uint32_t k = 0; k < n; ++k) {
+                    const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
+                    float* sum = &iterationSums[size_t(requests[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
+                    float total = 0.0f;
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
+                    if (!(total > 0.0f)) continue;
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
+                    sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
+                }
+            }
+            reduceSeconds += since(reduceStart);
+
+            const double sppDone = double(sampler.samplesTaken()) / double(pixels);
+            const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
+                                        ? session.elapsedSeconds() / settings.timeLimit
+                                        : sppDone / budgetSpp;
+            session.progress().update(fraction, sppDone, "spp");
+            session.snapshotIfDue(sampler.samplesTaken(), resolve);
+        }
+        sampler.finishIteration();
+        if (pmcHi) {
+            // Sec. 6.1: the auxiliary image takes each sampled pixel's mean final weights and
+            // seeds the next iteration (pixels without an adapted estimate keep theirs).
+            const auto feedbackStart = std::chrono::steady_clock::now();
+            std::vector<float> start(size_t(pixels) * gpu::PMC_HI_MAX_COMPONENTS);
+            for (uint32_t p = 0; p < pixels; ++p) {
+                float* sum = &iterationSums[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+                float* aux = &auxiliary[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+                const float count = sum[gpu::PMC_HI_MAX_COMPONENTS];
+                if (count > 0.0f) {
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) aux[c] = sum[c] / count;
+                    aux[gpu::PMC_HI_MAX_COMPONENTS] = 1.0f;
+                }
+                std::copy(aux, aux + gpu::PMC_HI_MAX_COMPONENTS, &start[size_t(p) * gpu::PMC_HI_MAX_COMPONENTS]);
+                std::fill(sum, sum + gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+            }
+            if (m_feedback) alphaStart.upload(start);
+            adaptSeconds += since(feedbackStart);
+        }
+        session.snapshotIfDue(sampler.samplesTaken(), resolve);
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    out.image = sampler.image();
+    out.cameraSamples = sampler.samplesTaken();
+    out.samplesPerPixel = double(out.cameraSamples) / double(pixels);
+    out.diagnostics.emplace_back("alpha", sampler.alphaImage());
+    out.diagnostics.emplace_back("samples", sampler.sampleCountImage());
+    out.diagnostics.emplace_back("variance", sampler.varianceImage());
+    out.methodStats["iterations_completed"] = sampler.iteration();
+    out.methodStats["initial_spp"] = m_options.initialSpp;
+    out.methodStats["host_adapt_seconds"] = adaptSeconds;
+    out.methodStats["host_reduce_seconds"] = reduceSeconds;
+    out.methodStats["spp_per_iteration"] = m_options.samplesPerIteration;
+    out.methodStats["epsilon"] = m_options.epsilon;
+    out.methodStats["min_spp"] = m_options.minSamples;
+    if (m_estimator == Estimator::Direct) out.methodStats["light_samples"] = m_lightSamples;
+    if (pmcHi) {
+        // The figure 7 maps from the auxiliary image after the last iteration.
+        addPmcHiOutputs(out, hiPush.hi, session.scene(), auxiliary, film.width(), film.height());
+        out.methodStats["feedback"] = m_feedback;
+    }
+    uint32_t maxCount = 0;
+    for (float c : out.diagnostics[1].second.rgb) maxCount = std::max(maxCount, uint32_t(c));
+    out.methodStats["max_samples_in_a_pixel"] = maxCount;
+    return out;
+}
+
+MethodInfo pmcIpMethod() {
+    return {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true, pmcIpOptions(false),
+        [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Full); },
+        ""};
+}
+
+MethodInfo pmcIpDirectMethod() {
+    return {"pmc-ip-direct", "PMC-IP adaptive image-plane sampling over MIS direct lighting", true,
+        pmcIpOptions(true),
+        [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Direct); },
+        ""};
+}
+
+MethodInfo pmcIpHiMethod() {
+    return {"pmc-ip-hi", "PMC-IP adaptive image-plane sampling over PMC-HI direct lighting, with feedback",
+        true, pmcIpHiOptions(),
+        [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::PmcHi); },
+        ""};
+}
+
+}  // namespace pmcr

@@ -1,0 +1,49 @@
+// PMC-IP (Fan, Lai, Chenney and Dyer, "Population Monte Carlo Samplers for Rendering", sec. 4):
+// adaptive image-plane sampling over path tracing (`pmc-ip`) or MIS direct lighting
+// (`pmc-ip-direct`, the paper's Buddha case). The image-plane sampler (render/
+// image_plane_sampler.h) decides each iteration's per-pixel sample counts and forms the
+// estimates; this integrator traces the samples it asks for with the same kernels as `pt` and
+// `direct` (camera samples from a request list, one result per sample, reduced on the host in
+// request order so that a seed gives the same image bit for bit).
+//
+// Budget: the first iteration takes `--initial-spp` uniformly, each later one `--spp-per-iteration`
+// on average; `--iterations` adaptive iterations, or as many as `--spp` allows (average samples
+// per pixel in total), or as many as fit in `--time`. Options and defaults: pmcIpMethod() and
+// the other registry entries (pmc_ip_integrator.cpp).
+//
+// `pmc-ip-hi` traces its samples with PMC-HI adaptive direct lighting
+// (shaders/methods/pmc_hi/pmc_hi.comp) and feeds back (sec. 6.1): after each image-plane iteration,
+// each pixel's mean of the final alpha of its samples' first-hit estimates goes into an auxiliary
+// image, which seeds the PMC-HI weights of the pixel's samples in the next iteration.
+#pragma once
+
+#include "methods/pmc_hi/pmc_hi.h"
+#include "methods/pmc_ip/image_plane_sampler.h"
+#include "render/integrator.h"
+#include "render/method_info.h"
+
+namespace pmcr {
+
+class PmcIp : public Integrator {
+public:
+    enum class Estimator { Full, Direct, PmcHi };
+    PmcIp(const RenderSettings& settings, Estimator estimator);
+    RenderOutput render(RenderSession& session) override;
+
+    static constexpr uint32_t kDefaultSpp = 64;
+
+private:
+    Estimator m_estimator;
+    ImagePlaneOptions m_options;
+    uint32_t m_iterations = 0;  // adaptive iterations after the first; 0: from --spp or --time
+    uint32_t m_lightSamples = 1;
+    PmcHiOptions m_hi;
+    bool m_feedback = true;
+};
+
+// The registry entries (render/methods.cpp) of `pmc-ip`, `pmc-ip-direct` and `pmc-ip-hi`.
+MethodInfo pmcIpMethod();
+MethodInfo pmcIpDirectMethod();
+MethodInfo pmcIpHiMethod();
+
+}  // namespace pmcr
