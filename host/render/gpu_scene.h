@@ -44,6 +44,8 @@ private:
     vk::Buffer m_texels;
     vk::Buffer m_envTexels;
     vk::Buffer m_envAlias;
+    vk::Buffer m_punctualLights;
+    vk::Buffer m_punctualAlias;
     std::unique_ptr<vk::DescriptorSet> m_set;
 };
 

@@ -7,6 +7,7 @@
 
 #include "render/method_info.h"
 #include "render/settings.h"
+#include "scene/scene.h"
 
 namespace pmcr {
 
@@ -16,5 +17,9 @@ const MethodInfo* findMethod(const std::string& name);
 // Checks settings.options against the method's options; throws pmcr::Error naming an unknown
 // option or an unimplemented method.
 void validateMethodOptions(const RenderSettings& settings);
+
+// Throws pmcr::Error naming the scene when `method` cannot render its lights (an environment or
+// punctual lights for a method that renders area lights only).
+void checkMethodLights(const std::string& method, const Scene& scene);
 
 }  // namespace pmcr

@@ -45,7 +45,8 @@ constexpr size_t kMaxMessage = 300;
 
 const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                     "KHR_materials_transmission",
-                                                    "KHR_materials_ior", "KHR_materials_volume"};
+                                                    "KHR_materials_ior", "KHR_materials_volume",
+                                                    "KHR_lights_punctual"};
 
 // tinygltf's (possibly multi-line, possibly data-URI-sized) messages as one short line.
 std::string oneLine(const std::string& text) {
@@ -265,6 +266,7 @@ private:
     void traverseScene();
     glm::dmat4 localTransform(int node) const;
     void addCamera(int node, const glm::dmat4& world);
+    void addLight(int node, const tinygltf::Value& extension, const glm::dmat4& world);
     void addPrimitive(int mesh, int primitive, const glm::dmat4& world);
 
     const tinygltf::BufferView& checkedView(int index, const std::string& user) const;
@@ -487,13 +489,7 @@ void GltfLoader::checkExtensions() {
     for (const std::string& name : m_model.extensionsUsed) {
         if (kSupportedExtensions.count(name) || name == "KHR_texture_transform")
             continue;
-        if (name == "KHR_lights_punctual") {
-            warnOnce(
-                "KHR_lights_punctual: punctual lights are ignored; pmcr renders emissive "
-                "triangles only");
-        } else {
-            warnOnce("extension " + inQuotes(name) + " is not supported and is ignored");
-        }
+        warnOnce("extension " + inQuotes(name) + " is not supported and is ignored");
     }
 }
 
@@ -967,6 +963,8 @@ void GltfLoader::traverseScene() {
         const glm::dmat4 world = pending.parentWorld * localTransform(pending.node);
         if (node.camera != -1)
             addCamera(pending.node, world);
+        if (auto light = node.extensions.find("KHR_lights_punctual"); light != node.extensions.end())
+            addLight(pending.node, light->second, world);
         if (node.skin != -1)
             warnOnce("skins are ignored: skinned meshes keep their bind pose");
         if (node.mesh != -1) {
@@ -1067,6 +1065,58 @@ void GltfLoader::addCamera(int nodeIndex, const glm::dmat4& world) {
     camera.yfov = float(yfov);
     camera.aspect = float(aspect);
     m_scene.cameras.push_back(camera);
+}
+
+// A KHR_lights_punctual light: at the node's origin, shining down its -Z axis. glTF gives point
+// and spot intensity in candela and directional in lux; pmcr takes them, as the Khronos sample
+// viewer does, in the units of emissive radiance (cd/m^2 with KHR_materials_emissive_strength),
+// so that I / d^2 and an emitter's L compare directly. `range` is ignored: the spec makes it
+// optional, and physical light falls off with the inverse square alone.
+void GltfLoader::addLight(int nodeIndex, const tinygltf::Value& extension, const glm::dmat4& world) {
+    const std::string node = nodeLabel(nodeIndex);
+    if (!extension.IsObject() || !extension.Has("light") || !extension.Get("light").IsInt())
+        error(node + ": KHR_lights_punctual without a light index");
+    const int index = extension.Get("light").GetNumberAsInt();
+    if (index < 0 || size_t(index) >= m_model.lights.size()) {
+        error(node + ": light " + std::to_string(index) + " out of range (" +
+              std::to_string(m_model.lights.size()) + " lights)");
+    }
+    const tinygltf::Light& src = m_model.lights[size_t(index)];
+    const std::string label = "light " + std::to_string(index);
+    glm::dvec3 color(1.0);
+    if (!src.color.empty()) {
+        if (src.color.size() != 3) error(label + ": color needs 3 values");
+        color = glm::dvec3(src.color[0], src.color[1], src.color[2]);
+    }
+    const glm::dvec3 intensity = color * src.intensity;
+    if (!std::isfinite(intensity.x + intensity.y + intensity.z) ||
+        glm::any(glm::lessThan(intensity, glm::dvec3(0.0))))
+        error(label + ": color and intensity must be finite and >= 0");
+    if (src.range > 0.0) warnOnce("KHR_lights_punctual: range is ignored (light falls off with 1/d^2)");
+
+    gpu::PunctualLight light{};
+    light.position = glm::vec3(world[3]);
+    const glm::dvec3 direction = glm::dmat3(world) * glm::dvec3(0.0, 0.0, -1.0);
+    if (!(glm::length(direction) > 1e-12)) error(node + ": degenerate light transform");
+    light.direction = glm::vec3(glm::normalize(direction));
+    light.intensity = glm::vec3(intensity);
+    light.cosInner = 1.0f;
+    light.cosOuter = 1.0f;
+    if (src.type == "point") {
+        light.type = gpu::PUNCTUAL_POINT;
+    } else if (src.type == "directional") {
+        light.type = gpu::PUNCTUAL_DIRECTIONAL;
+    } else if (src.type == "spot") {
+        const double inner = src.spot.innerConeAngle, outer = src.spot.outerConeAngle;
+        if (!(inner >= 0.0 && inner < outer && outer <= 0.5 * glm::pi<double>()))
+            error(label + ": spot cone angles must satisfy 0 <= inner < outer <= pi/2");
+        light.type = gpu::PUNCTUAL_SPOT;
+        light.cosInner = float(std::cos(inner));
+        light.cosOuter = float(std::cos(outer));
+    } else {
+        error(label + " has unknown type " + inQuotes(src.type));
+    }
+    if (luminance(light.intensity) > 0.0f) m_scene.punctualLights.push_back(light);
 }
 
 void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat4& world) {

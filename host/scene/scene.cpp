@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include <cmath>
+#include <numbers>
 #include <map>
 #include <tuple>
 #include <string>
@@ -76,6 +77,19 @@ double buildAliasTable(const std::vector<double>& power, gpu::Emitter* table) {
         }
     }
     return total;
+}
+
+double punctualLightPower(const gpu::PunctualLight& light, float sceneRadius) {
+    const double pi = std::numbers::pi;
+    const double I = luminance(light.intensity);
+    switch (light.type) {
+        case gpu::PUNCTUAL_POINT:
+            return 4.0 * pi * I;
+        case gpu::PUNCTUAL_SPOT:  // the cone's solid angle, the smooth falloff counted as half
+            return 2.0 * pi * I * (1.0 - 0.5 * (double(light.cosInner) + double(light.cosOuter)));
+        default:
+            return pi * double(sceneRadius) * double(sceneRadius) * I;
+    }
 }
 
 namespace {
@@ -228,9 +242,9 @@ void finalizeScene(Scene& scene) {
             break;
         }
     }
-    if (!anyEmitter && scene.environment.kind == gpu::ENV_NONE) {
-        fail(file, "no emitters: the scene has no emissive triangles (light it with --env R,G,B "
-                   "or --env FILE, an environment light)");
+    if (!anyEmitter && scene.punctualLights.empty() && scene.environment.kind == gpu::ENV_NONE) {
+        fail(file, "no emitters: the scene has no emissive triangles and no punctual lights "
+                   "(light it with --env R,G,B or --env FILE, an environment light)");
     }
 
     scene.boundsMin = glm::vec3(INFINITY);

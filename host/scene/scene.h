@@ -57,6 +57,7 @@ struct Scene {
     glm::vec3 boundsMin{0.0f};
     glm::vec3 boundsMax{0.0f};
     Environment environment;               // set before finalizeScene (loadScene's EnvironmentSpec)
+    std::vector<gpu::PunctualLight> punctualLights;  // KHR_lights_punctual, world space
 };
 
 // Emitters: every triangle whose material has non-zero emission, in a Walker alias table over
@@ -86,12 +87,18 @@ struct LightGroupTable {
 };
 LightGroupTable buildLightGroups(const Scene& scene);
 
+// Power of a punctual light, its intensity reduced to luminance (pbrt-v4 PointLight, SpotLight
+// and DistantLight::Phi; a directional light's through the scene's bounding disk of radius
+// sceneRadius): light sampling picks the lights in proportion to it.
+double punctualLightPower(const gpu::PunctualLight& light, float sceneRadius);
+
 // Selection probability of an emitter triangle as the kernels compute it for MIS:
 // power of the triangle / total power. Shared formula: see shaders/common/lights.glsl.
 float emitterPower(const Scene& scene, uint32_t triangle);
 
 // Recomputes bounds; throws pmcr::Error naming scene.path for NaN/Inf positions, no triangles
-// or no light (no emitters and no environment); drops zero-area triangles with one warning.
+// or no light (no emitters, punctual lights or environment); drops zero-area triangles with one
+// warning.
 void finalizeScene(Scene& scene);
 
 float luminance(const glm::vec3& rgb);  // Rec. 709 / sRGB primaries

@@ -21,8 +21,33 @@ float emitterPowerPerArea(uint tri) {
 // Power of an emitter triangle: area * luminance(Le) * pi * (2 if double-sided).
 float emitterPower(uint tri) { return triangleArea(tri) * emitterPowerPerArea(tri); }
 
-// Probability that light sampling picks an emitter triangle rather than the environment.
-float emittersSelectPmf() { return hasEnvironment() ? 1.0 - sceneInfo.envSelectPmf : 1.0; }
+// Light sampling picks the environment with probability envSelectPmf (u in [0, envSelectPmf)),
+// a punctual light with punctualSelectPmf (the next interval), else an emitter triangle: each in
+// proportion to power (host/render/gpu_scene.cpp).
+bool hasOtherLights() { return hasEnvironment() || sceneInfo.punctualCount > 0u; }
+
+// Probability that light sampling picks an emitter triangle.
+float emittersSelectPmf() {
+    return hasOtherLights() ? 1.0 - sceneInfo.envSelectPmf - sceneInfo.punctualSelectPmf : 1.0;
+}
+
+// The punctual lights (KHR_lights_punctual), and the alias table over their power.
+layout(set = SCENE_SET, binding = BINDING_PUNCTUAL_LIGHTS) uniform usamplerBuffer punctualTexels;
+layout(set = SCENE_SET, binding = BINDING_PUNCTUAL_ALIAS) uniform usamplerBuffer punctualAliasTexels;
+
+PunctualLight punctualLightAt(uint i) {
+    uvec4 a = texelFetch(punctualTexels, int(PUNCTUAL_LIGHT_TEXELS * i));
+    vec4 b = uintBitsToFloat(texelFetch(punctualTexels, int(PUNCTUAL_LIGHT_TEXELS * i + 1u)));
+    vec4 c = uintBitsToFloat(texelFetch(punctualTexels, int(PUNCTUAL_LIGHT_TEXELS * i + 2u)));
+    return PunctualLight(uintBitsToFloat(a.xyz), a.w, b.xyz, b.w, c.xyz, c.w);
+}
+
+// A spot light's falloff at cosTheta off its axis, as the glTF spec suggests
+// (KHR_lights_punctual): 1 inside the inner cone, 0 outside the outer, smooth in between.
+float spotFalloff(PunctualLight l, float cosTheta) {
+    float t = clamp((cosTheta - l.cosOuter) / max(1e-3, l.cosInner - l.cosOuter), 0.0, 1.0);
+    return t * t;
+}
 
 // Probability of selecting triangle `tri` when sampling lights.
 float emitterSelectPmf(uint tri) {
@@ -68,12 +93,12 @@ uint lightGroupTriangle(uint group, float u) {
 }
 
 // Picks an emitter with uSelect (the alias table of all emitters) and a point on it with uPoint.
-// With an environment, the caller has picked the emitters with uSelect in
-// [envSelectPmf, 1), which is stretched back to [0, 1).
+// With other lights, the caller has picked the emitters with uSelect in
+// [envSelectPmf + punctualSelectPmf, 1), which is stretched back to [0, 1).
 LightSample sampleLight(float uSelect, vec2 uPoint) {
-    if (hasEnvironment() && sceneInfo.envSelectPmf < 1.0) {
-        uSelect = clamp((uSelect - sceneInfo.envSelectPmf) / (1.0 - sceneInfo.envSelectPmf), 0.0,
-                        ONE_MINUS_EPSILON);
+    float others = sceneInfo.envSelectPmf + sceneInfo.punctualSelectPmf;
+    if (hasOtherLights() && others < 1.0) {
+        uSelect = clamp((uSelect - others) / (1.0 - others), 0.0, ONE_MINUS_EPSILON);
     }
     uint tri = lightGroupTriangle(sceneInfo.lightCount, uSelect);
     return lightSampleOn(tri, uPoint, emitterAreaPdf(tri));

@@ -8,11 +8,11 @@ PMCR_CONST uint SCENE_SET = 0;
 PMCR_CONST uint BINDING_SCENE_INFO = 0;      // SceneInfo (uniform)
 PMCR_CONST uint BINDING_VERTICES = 1;        // Vertex[] as a float texel buffer, VERTEX_TEXELS each
 PMCR_CONST uint BINDING_TRIANGLES = 2;       // Triangle[] as a uint texel buffer (original order)
-                                             // 3: unused
+PMCR_CONST uint BINDING_PUNCTUAL_LIGHTS = 3;  // PunctualLight[] as a uint texel buffer, PUNCTUAL_LIGHT_TEXELS each
 PMCR_CONST uint BINDING_BVH = 4;             // uvec4 texel buffer: nodes and triangles (Bvh::deviceTexels)
 PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[] as a uint texel buffer, MATERIAL_TEXELS each
-                                             // 6: unused (the emitters' alias table is the
-                                             // light group of all emitters, below)
+PMCR_CONST uint BINDING_PUNCTUAL_ALIAS = 6;   // Emitter[] as a uint texel buffer: an alias table over
+                                             // the punctual lights' power (`triangle`: the light)
 PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]
 PMCR_CONST uint BINDING_TEXELS = 8;          // uint[] (RGBA8, sRGB-encoded colour)
 PMCR_CONST uint BINDING_LIGHT_GROUPS = 9;     // LightGroup[] as a uint texel buffer: the lights

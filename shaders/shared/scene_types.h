@@ -170,8 +170,8 @@ struct SceneInfo {
     uint nodeCount;
     float totalEmitterPower;
     uint lightCount;       // PMC-HI's lights (LightGroup[]); the group of all emitters follows them
-    uint pad0;
-    uint pad1;
+    uint punctualCount;    // PunctualLight[] (KHR_lights_punctual)
+    float punctualSelectPmf;  // probability that light sampling picks a punctual light (by power)
     uint pad2;
     // The environment light (--env; shaders/common/environment.glsl).
     vec3 envRadiance;      // ENV_CONSTANT: the radiance; ENV_IMAGE: the scale of the image's texels
@@ -182,6 +182,23 @@ struct SceneInfo {
     uint envHeight;
 };
 PMCR_CHECK_SIZE(SceneInfo, 144);
+
+// A punctual light (KHR_lights_punctual): a point, a spot (a point with a cone) or a directional
+// light, each a delta in position or direction, reached by light sampling only. Three texels.
+PMCR_CONST uint PUNCTUAL_POINT = 0;
+PMCR_CONST uint PUNCTUAL_SPOT = 1;
+PMCR_CONST uint PUNCTUAL_DIRECTIONAL = 2;
+struct PunctualLight {
+    vec3 position;         // point, spot: world position
+    uint type;             // PUNCTUAL_*
+    vec3 direction;        // spot, directional: the unit direction the light shines in
+    float cosOuter;        // spot: cos of the outer cone angle
+    vec3 intensity;        // point, spot: radiant intensity (colour * intensity, per sr);
+                           // directional: irradiance on a surface facing it
+    float cosInner;        // spot: cos of the inner cone angle
+};
+PMCR_CHECK_SIZE(PunctualLight, 48);
+PMCR_CONST uint PUNCTUAL_LIGHT_TEXELS = 3;
 
 // The environment light: radiance arriving from infinitely far in every direction.
 PMCR_CONST uint ENV_NONE = 0;

@@ -492,7 +492,67 @@ TEST(GltfLoader, MaterialExtensionsAndIgnoredFeatures) {
     EXPECT_EQ(countOf(warnings, "normalTexture"), 1u) << warnings;
     EXPECT_EQ(countOf(warnings, "thin-walled"), 1u) << warnings;
     EXPECT_NE(warnings.find("('Thin')"), std::string::npos) << warnings;
-    EXPECT_EQ(countOf(warnings, "punctual lights are ignored"), 1u) << warnings;
+    EXPECT_EQ(countOf(warnings, "punctual"), 0u) << warnings;  // KHR_lights_punctual is supported
+}
+
+// KHR_lights_punctual: each light at its node's origin, shining down the node's -Z, with
+// colour * intensity; spot cones as cosines; lights of zero intensity dropped; a scene lit by
+// punctual lights alone loads; bad lights fail with one line.
+TEST(GltfLoader, PunctualLights) {
+    auto build = [](const json& lights, const std::vector<json>& lightNodes) {
+        GltfBuilder b;
+        b.useExtension("KHR_lights_punctual");
+        b.doc["extensions"]["KHR_lights_punctual"]["lights"] = lights;
+        b.node({{"mesh", b.triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, -1)}});
+        for (const json& n : lightNodes) b.node(n);
+        return b;
+    };
+    auto lightNode = [](int light, const json& transform) {
+        json n = transform;
+        n["extensions"]["KHR_lights_punctual"]["light"] = light;
+        return n;
+    };
+    const json lights = json::array(
+        {{{"type", "point"}, {"color", {1.0, 0.5, 0.25}}, {"intensity", 8.0}},
+         {{"type", "spot"}, {"intensity", 2.0}, {"spot", {{"innerConeAngle", 0.25}, {"outerConeAngle", 0.5}}}},
+         {{"type", "directional"}, {"intensity", 3.0}, {"range", 10.0}},
+         {{"type", "point"}, {"intensity", 0.0}}});
+    // The spot's node turns -Z to -Y (-90 degrees about +X).
+    const double h = std::sqrt(0.5);
+    GltfBuilder b = build(lights, {lightNode(0, {{"translation", {1.0, 2.0, 3.0}}}),
+                                   lightNode(1, {{"translation", {0.0, 4.0, 0.0}}, {"rotation", {-h, 0.0, 0.0, h}}}),
+                                   lightNode(2, json::object()), lightNode(3, json::object())});
+    std::string warnings;
+    const Scene s = loadQuietly(b.writeGltf(test::tempDir("punctual"), "punctual"), &warnings);
+    ASSERT_EQ(s.punctualLights.size(), 3u);  // the zero-intensity light is dropped
+    const gpu::PunctualLight& point = s.punctualLights[0];
+    EXPECT_EQ(point.type, gpu::PUNCTUAL_POINT);
+    expectNear(point.position, glm::vec3(1.0f, 2.0f, 3.0f));
+    expectNear(point.intensity, glm::vec3(8.0f, 4.0f, 2.0f));
+    const gpu::PunctualLight& spot = s.punctualLights[1];
+    EXPECT_EQ(spot.type, gpu::PUNCTUAL_SPOT);
+    expectNear(spot.position, glm::vec3(0.0f, 4.0f, 0.0f));
+    expectNear(spot.direction, glm::vec3(0.0f, -1.0f, 0.0f));
+    EXPECT_NEAR(spot.cosInner, std::cos(0.25), 1e-6);
+    EXPECT_NEAR(spot.cosOuter, std::cos(0.5), 1e-6);
+    const gpu::PunctualLight& sun = s.punctualLights[2];
+    EXPECT_EQ(sun.type, gpu::PUNCTUAL_DIRECTIONAL);
+    expectNear(sun.direction, glm::vec3(0.0f, 0.0f, -1.0f));
+    expectNear(sun.intensity, glm::vec3(3.0f));
+    EXPECT_EQ(countOf(warnings, "range is ignored"), 1u) << warnings;
+
+    const fs::path dir = test::tempDir("bad-punctual");
+    expectLoadError(build(json::array({{{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}}),
+                          {lightNode(0, json::object())})
+                        .writeGltf(dir, "cone"),
+                    "spot cone angles");
+    expectLoadError(build(json::array({{{"type", "area"}}}), {lightNode(0, json::object())}).writeGltf(dir, "type"),
+                    "unknown type");
+    expectLoadError(build(json::array({{{"type", "point"}}}), {lightNode(3, json::object())}).writeGltf(dir, "index"),
+                    "out of range");
+    expectLoadError(build(json::array({{{"type", "point"}, {"intensity", -1.0}}}), {lightNode(0, json::object())})
+                        .writeGltf(dir, "negative"),
+                    ">= 0");
 }
 
 TEST(GltfLoader, RejectsInvalidMaterialValues) {
@@ -886,8 +946,8 @@ TEST(GltfLoaderErrors, NoEmitters) {
     GltfBuilder b;
     b.node({{"mesh", b.triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, -1)}});
     expectLoadError(b.writeGltf(test::tempDir("dark"), "dark"),
-                    "no emitters: the scene has no emissive triangles (pmcr renders only area "
-                    "lights)");
+                    "no emitters: the scene has no emissive triangles and no punctual lights "
+                    "(light it with --env");
 }
 
 TEST(GltfLoaderErrors, AllTrianglesDegenerate) {

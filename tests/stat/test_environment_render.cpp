@@ -1,12 +1,15 @@
-// Rendering under an environment light (--env) against analytic answers, for every method that
-// takes one:
+// Rendering under an environment light (--env) or punctual lights (KHR_lights_punctual) against
+// analytic answers, for every method that takes them:
 //  - a white Lambertian sphere under a constant environment L (a furnace): every pixel, sphere
 //    or background, sees L, whatever the depth (a convex object's reflected rays escape);
 //  - a large white Lambertian floor under a random environment image, seen from above: every
 //    pixel sees (1 / pi) * the integral over the upper hemisphere of L cos(theta), a sum over
 //    the image's upper rows in closed form (the image is constant over a pixel), and the same
 //    whatever the rotation about +y. Light sampling (the pixel table), BSDF sampling and their
-//    MIS weights must then add up to it exactly.
+//    MIS weights must then add up to it exactly;
+//  - the same floor under a point, a spot and a directional light: each pixel sees
+//    (1 / pi) * sum of I cos(theta) / d^2 (the spot's times its falloff) and E cos(theta), which
+//    the test integrates over each pixel's footprint on the host.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -107,11 +110,11 @@ double floorAnswer(const Environment& env) {
 
 class EnvironmentRender : public GpuTest {
 protected:
-    // The image mean over 6 renders must match `expected` within 5 standard errors.
+    // The image mean over 16 renders must match `expected` within 5 standard errors.
     void expectMean(const Scene& scene, RenderSettings s, double expected, const std::string& what) {
         s.width = 24;
         s.height = 24;
-        const MeanEstimate m = meanOverRenders(scene, s, 6, 101);
+        const MeanEstimate m = meanOverRenders(scene, s, 16, 101);
         EXPECT_NEAR(m.mean, expected, 5.0 * m.standardError + 1e-4 * expected)
             << what << ": mean " << m.mean << ", expected " << expected << " (standard error "
             << m.standardError << ")";
@@ -149,6 +152,100 @@ TEST_F(EnvironmentRender, WhiteFloorUnderImageSky) {
         expectMean(scene, direct, expected, "direct");
         expectMean(scene, method("pmc-ip", 16, 2), expected, "pmc-ip");
     }
+}
+
+
+gpu::PunctualLight punctual(uint32_t type, glm::vec3 position, glm::vec3 direction, glm::vec3 intensity,
+                            float inner = 0.0f, float outer = 0.0f) {
+    gpu::PunctualLight l{};
+    l.type = type;
+    l.position = position;
+    l.direction = glm::normalize(direction);
+    l.intensity = intensity;
+    l.cosInner = std::cos(inner);
+    l.cosOuter = std::cos(outer);
+    return l;
+}
+
+// Radiance of the white floor at x (green): (1 / pi) * irradiance from the lights.
+double floorRadiance(const std::vector<gpu::PunctualLight>& lights, const glm::dvec3& x) {
+    double E = 0.0;
+    for (const gpu::PunctualLight& l : lights) {
+        if (l.type == gpu::PUNCTUAL_DIRECTIONAL) {
+            E += l.intensity.y * std::max(0.0, -double(l.direction.y));
+            continue;
+        }
+        const glm::dvec3 toLight = glm::dvec3(l.position) - x;
+        const double d2 = glm::dot(toLight, toLight);
+        const glm::dvec3 wi = toLight / std::sqrt(d2);
+        double falloff = 1.0;
+        if (l.type == gpu::PUNCTUAL_SPOT) {
+            const double t = std::clamp((glm::dot(-wi, glm::dvec3(l.direction)) - l.cosOuter) /
+                                            std::max(1e-3, double(l.cosInner) - double(l.cosOuter)),
+                                        0.0, 1.0);
+            falloff = t * t;
+        }
+        E += l.intensity.y * falloff * std::max(0.0, wi.y) / d2;
+    }
+    return E / std::numbers::pi;
+}
+
+// The image mean of `scene` (a camera looking at the floor y = 0) as the average over every
+// pixel of the floor radiance seen through it, n x n points per pixel.
+double floorImageMean(const Scene& scene, int width, int height, int n) {
+    const Camera& c = scene.cameras[0];
+    const double t = std::tan(0.5 * c.yfov), aspect = double(width) / height;
+    double sum = 0.0;
+    for (int py = 0; py < height; ++py)
+        for (int px = 0; px < width; ++px)
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const double rx = px + (i + 0.5) / n, ry = py + (j + 0.5) / n;
+                    const glm::dvec3 d = glm::dvec3(c.forward) +
+                                         ((2.0 * rx / width - 1.0) * t * aspect) * glm::dvec3(c.right) +
+                                         ((1.0 - 2.0 * ry / height) * t) * glm::dvec3(c.up);
+                    const glm::dvec3 x = glm::dvec3(c.position) + d * (-double(c.position.y) / d.y);
+                    sum += floorRadiance(scene.punctualLights, x);
+                }
+    return sum / (double(width) * height * n * n);
+}
+
+TEST_F(EnvironmentRender, WhiteFloorUnderPunctualLights) {
+    Scene scene;
+    scene.path = "punctual-floor.gltf";
+    scene.materials = {whiteLambertian()};
+    addTriangle(scene, {-100, 0, -100}, {-100, 0, 100}, {100, 0, 100}, 0);
+    addTriangle(scene, {-100, 0, -100}, {100, 0, 100}, {100, 0, -100}, 0);
+    Camera camera;
+    camera.position = glm::vec3(0, 2, 0);
+    camera.forward = glm::vec3(0, -1, 0);
+    camera.up = glm::vec3(0, 0, -1);
+    camera.right = glm::cross(camera.forward, camera.up);
+    camera.yfov = 1.2f;
+    scene.cameras.push_back(camera);
+    scene.punctualLights = {
+        punctual(gpu::PUNCTUAL_POINT, {0.5f, 1.0f, 0.3f}, {0, -1, 0}, {2.0f, 3.0f, 1.0f}),
+        punctual(gpu::PUNCTUAL_SPOT, {-0.6f, 1.2f, 0.0f}, {0.2f, -1, 0}, {4.0f, 5.0f, 4.0f}, 0.2f, 0.5f),
+        punctual(gpu::PUNCTUAL_DIRECTIONAL, {0, 0, 0}, {0.3f, -1, 0.2f}, {0.5f, 0.4f, 0.5f})};
+    finalizeScene(scene);
+    const double expected = floorImageMean(scene, 24, 24, 16);
+    expectMean(scene, method("pt", 8, 1), expected, "pt depth 1");
+    expectMean(scene, method("pt", 8, 3), expected, "pt depth 3");
+    expectMean(scene, method("direct", 8), expected, "direct");
+    expectMean(scene, method("pmc-ip", 16, 2), expected, "pmc-ip");
+    expectMean(scene, method("pmc-pt", 16, 2), expected, "pmc-pt");
+}
+
+// A point light and an environment together, with an emitter: light selection across the
+// three kinds must still add up (the floor's answer is the sum of each alone).
+TEST_F(EnvironmentRender, AllLightKindsTogether) {
+    Scene scene = floorScene(loadEnvironment({"0.3,0.6,0.9"}));
+    scene.punctualLights = {punctual(gpu::PUNCTUAL_POINT, {0.2f, 1.5f, -0.1f}, {0, -1, 0}, {1, 2, 3})};
+    finalizeScene(scene);
+    // A constant sky of radiance L over a white floor gives L; the point light adds its part.
+    const double expected = 0.6 + floorImageMean(scene, 24, 24, 16);
+    expectMean(scene, method("pt", 8, 2), expected, "pt");
+    expectMean(scene, method("direct", 8), expected, "direct");
 }
 
 }  // namespace

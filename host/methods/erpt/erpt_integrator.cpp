@@ -299,7 +299,7 @@ MethodInfo erptMethod() {
          {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
          {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
          {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
-        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""};
+        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, "", /*areaLightsOnly=*/true};
 }
 
 }  // namespace pmcr

@@ -498,7 +498,7 @@ MethodInfo pmcErMethod() {
          {"prepass-spp", "4", "path-traced samples per pixel estimating the image energy"},
          {"steps-per-dispatch", "4", "mutations per member per dispatch"},
          {"birth", "equal", "equal: every member starts with the mean path energy Q and floor(U + E/Q) shares; path: the paper's E_remain = E", true}},
-        [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, ""};
+        [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, "", /*areaLightsOnly=*/true};
 }
 
 }  // namespace pmcr

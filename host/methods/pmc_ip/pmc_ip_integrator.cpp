@@ -322,7 +322,7 @@ MethodInfo pmcIpHiMethod() {
     return {"pmc-ip-hi", "PMC-IP adaptive image-plane sampling over PMC-HI direct lighting, with feedback",
         true, pmcIpHiOptions(),
         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::PmcHi); },
-        ""};
+        "", /*areaLightsOnly=*/true};
 }
 
 }  // namespace pmcr

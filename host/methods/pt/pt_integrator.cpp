@@ -194,7 +194,7 @@ MethodInfo pmcHiMethod() {
     return {"pmc-hi", "PMC-HI adaptive direct lighting (mixture of BSDF, light and cone sampling)", true,
         pmcHiMethodOptions(),
         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::PmcHi); },
-        ""};
+        "", /*areaLightsOnly=*/true};
 }
 
 }  // namespace pmcr

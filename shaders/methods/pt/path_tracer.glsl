@@ -70,14 +70,17 @@ struct LightSampleFrom {
     vec3 Le;            // radiance arriving along wi (before visibility)
     float pdf;          // solid-angle density, light selection included; 0: no sample
     ShadowRay ray;      // the segment that must be clear
-    LightSample area;   // the emitter point (when !fromEnvironment)
+    LightSample area;   // the emitter point (when from an emitter)
     bool fromEnvironment;
+    bool delta;         // a punctual light: pdf is its selection probability, no MIS
 };
 
-// Next-event estimation's light sample: with an environment, uLight < envSelectPmf picks it (a
-// direction by envSample), else an emitter triangle by power and a uniform point on it.
+// Next-event estimation's light sample, the light picked by uLight in proportion to power
+// (lights.glsl): the environment (a direction by envSample), a punctual light (its one
+// direction), or an emitter triangle and a uniform point on it.
 LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint) {
     LightSampleFrom ls;
+    ls.delta = false;
     ls.fromEnvironment = hasEnvironment() && uLight < sceneInfo.envSelectPmf;
     if (ls.fromEnvironment) {
         EnvSample e = envSample(min(uLight / sceneInfo.envSelectPmf, ONE_MINUS_EPSILON), uLightPoint);
@@ -85,6 +88,37 @@ LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint)
         ls.Le = e.Le;
         ls.pdf = e.pdf * sceneInfo.envSelectPmf;
         ls.ray = ShadowRay(spawnOrigin(sh, e.wi), e.wi, FLOAT_MAX);
+        return ls;
+    }
+    float uPunctual = uLight - sceneInfo.envSelectPmf;
+    // (Without emitters, rounding may leave a sliver of u above both intervals: it goes here.)
+    if (sceneInfo.punctualCount > 0u &&
+        (uPunctual < sceneInfo.punctualSelectPmf || !(sceneInfo.totalEmitterPower > 0.0))) {
+        // A delta light: the estimator divides by its selection probability alone (pbrt-v4
+        // PointLight::SampleLi, SpotLight, DistantLight: radiant intensity over d^2, or
+        // irradiance), and BSDF sampling never reaches it, so it takes no MIS weight.
+        uint n = sceneInfo.punctualCount;
+        uint index = aliasTableTriangle(punctualAliasTexels, 0u, n,
+                                        min(uPunctual / sceneInfo.punctualSelectPmf, ONE_MINUS_EPSILON));
+        PunctualLight l = punctualLightAt(index);
+        ls.delta = true;
+        ls.pdf = uintBitsToFloat(texelFetch(punctualAliasTexels, int(index)).y) *
+                 sceneInfo.punctualSelectPmf;
+        if (l.type == PUNCTUAL_DIRECTIONAL) {
+            ls.wi = -l.direction;
+            ls.Le = l.intensity;
+            ls.ray = ShadowRay(spawnOrigin(sh, ls.wi), ls.wi, FLOAT_MAX);
+        } else {
+            vec3 toLight = l.position - sh.surface.position;
+            float dist2 = dot(toLight, toLight);
+            ls.wi = toLight * inversesqrt(dist2);
+            ls.Le = l.intensity / dist2;
+            if (l.type == PUNCTUAL_SPOT) ls.Le *= spotFalloff(l, dot(-ls.wi, l.direction));
+            vec3 origin = spawnOrigin(sh, ls.wi);
+            vec3 d = l.position - origin;
+            float dist = length(d);
+            ls.ray = ShadowRay(origin, d / dist, dist * (1.0 - 1e-4));
+        }
         return ls;
     }
     vec3 position = sh.surface.position;
@@ -181,7 +215,8 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
             vec3 f = shadingEval(sh, ls.wi, pdfBsdf, absCos);
             if (maxComponent(f) > 0.0) {
                 light.ray = ls.ray;
-                light.contribution = p.beta * f * absCos * ls.Le * powerHeuristic(ls.pdf, pdfBsdf) / ls.pdf;
+                float w = ls.delta ? 1.0 : powerHeuristic(ls.pdf, pdfBsdf);
+                light.contribution = p.beta * f * absCos * ls.Le * w / ls.pdf;
                 light.valid = true;
 #ifdef PT_RECORD_PATHS
                 pv.lightPosition = ls.area.point.position;
@@ -321,8 +356,9 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
                 vec3 f = shadingEval(sh, ls.wi, pdfBsdf, absCos);
                 if (maxComponent(f) > 0.0) {
                     rays += 1u;
+                    float w = ls.delta ? 1.0 : powerHeuristic(n, ls.pdf, n, pdfBsdf);
                     if (!traceAny(ls.ray.origin, ls.ray.dir, ls.ray.tMax))
-                        L += f * absCos * ls.Le * powerHeuristic(n, ls.pdf, n, pdfBsdf) / (n * ls.pdf);
+                        L += f * absCos * ls.Le * w / (n * ls.pdf);
                 }
             }
         }
