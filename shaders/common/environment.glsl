@@ -14,7 +14,16 @@
 layout(set = SCENE_SET, binding = BINDING_ENV_TEXELS) uniform samplerBuffer envTexels;
 layout(set = SCENE_SET, binding = BINDING_ENV_ALIAS) uniform usamplerBuffer envAliasTexels;
 
-bool hasEnvironment() { return sceneInfo.envKind != ENV_NONE; }
+// Kernels compiled without PMCR_OTHER_LIGHTS (the variants the host picks for scenes lit by
+// emitters alone) leave out the environment and the punctual lights: on lavapipe a kernel pays
+// for every branch, taken or not (measured: pt 9% fewer samples/s with them compiled in).
+bool hasEnvironment() {
+#ifdef PMCR_OTHER_LIGHTS
+    return sceneInfo.envKind != ENV_NONE;
+#else
+    return false;
+#endif
+}
 
 // World direction -> the image's frame: rotated by -envRotation about +y.
 vec3 envToLocal(vec3 d) {

@@ -24,7 +24,15 @@ float emitterPower(uint tri) { return triangleArea(tri) * emitterPowerPerArea(tr
 // Light sampling picks the environment with probability envSelectPmf (u in [0, envSelectPmf)),
 // a punctual light with punctualSelectPmf (the next interval), else an emitter triangle: each in
 // proportion to power (host/render/gpu_scene.cpp).
-bool hasOtherLights() { return hasEnvironment() || sceneInfo.punctualCount > 0u; }
+bool hasPunctualLights() {
+#ifdef PMCR_OTHER_LIGHTS  // see hasEnvironment
+    return sceneInfo.punctualCount > 0u;
+#else
+    return false;
+#endif
+}
+
+bool hasOtherLights() { return hasEnvironment() || hasPunctualLights(); }
 
 // Probability that light sampling picks an emitter triangle.
 float emittersSelectPmf() {

@@ -79,8 +79,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
     const vk::Kernel& kernel =
-        session.kernel(m_estimator == Estimator::Full     ? "methods/pt/pt"
-                       : m_estimator == Estimator::Direct ? "methods/pt/direct"
+        session.kernel(m_estimator == Estimator::Full     ? pathTracingKernel(session.scene(), "pt")
+                       : m_estimator == Estimator::Direct ? pathTracingKernel(session.scene(), "direct")
                                                           : "methods/pmc_hi/pmc_hi");
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();

@@ -112,7 +112,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
     };
 
     // Pipelines and buffers before the clock starts.
-    const vk::Kernel& kernel = session.kernel("methods/pt/pt");
+    const vk::Kernel& kernel = session.kernel(pathTracingKernel(session.scene(), "pt"));
     Film& film = session.film();
     struct Slot {
         vk::Buffer requests;

@@ -44,11 +44,17 @@ void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession
     work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
 }
 
+std::string pathTracingKernel(const GpuScene& scene, const std::string& name) {
+    const bool otherLights = scene.info().envKind != gpu::ENV_NONE || scene.info().punctualCount > 0;
+    return "methods/pt/" + name + (otherLights ? "_all_lights" : "");
+}
+
 RenderOutput PathTracer::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
-    const vk::Kernel& kernel = session.kernel(m_mode == Mode::Full     ? "methods/pt/pt"
-                                              : m_mode == Mode::Direct ? "methods/pt/direct"
-                                                                       : "methods/pmc_hi/pmc_hi");
+    const vk::Kernel& kernel =
+        session.kernel(m_mode == Mode::Full     ? pathTracingKernel(session.scene(), "pt")
+                       : m_mode == Mode::Direct ? pathTracingKernel(session.scene(), "direct")
+                                                : "methods/pmc_hi/pmc_hi");
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     bindTileWork(work, film, session);

@@ -25,6 +25,12 @@ void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession
 uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items,
                               uint32_t pathsPerItem = 1);
 
+// The path-tracing kernel `name` ("pt" or "direct", under shaders/methods/pt/) for `scene`: the
+// variant with punctual lights and the environment compiled in (NAME_all_lights) when the scene
+// has them, else the one for emitters alone, which on lavapipe is faster (every branch of a
+// kernel costs there, taken or not).
+std::string pathTracingKernel(const GpuScene& scene, const std::string& name);
+
 class PathTracer : public Integrator {
 public:
     enum class Mode { Full, Direct, PmcHi };

@@ -92,7 +92,7 @@ LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint)
     }
     float uPunctual = uLight - sceneInfo.envSelectPmf;
     // (Without emitters, rounding may leave a sliver of u above both intervals: it goes here.)
-    if (sceneInfo.punctualCount > 0u &&
+    if (hasPunctualLights() &&
         (uPunctual < sceneInfo.punctualSelectPmf || !(sceneInfo.totalEmitterPower > 0.0))) {
         // A delta light: the estimator divides by its selection probability alone (pbrt-v4
         // PointLight::SampleLi, SpotLight, DistantLight: radiant intensity over d^2, or
