@@ -240,9 +240,8 @@ bool isUnsignedIndexType(int componentType) {
 
 class GltfLoader {
 public:
-    GltfLoader(const fs::path& path, Environment environment) : m_path(path), m_file(path.string()) {
-        m_scene.environment = std::move(environment);
-    }
+    GltfLoader(const fs::path& path, EnvironmentSpec environment)
+        : m_path(path), m_file(path.string()), m_environment(std::move(environment)) {}
     Scene load();
 
 private:
@@ -282,6 +281,7 @@ private:
     std::string m_file;
     tinygltf::Model m_model;
     Scene m_scene;
+    EnvironmentSpec m_environment;  // --env; else extras.pmcr.environment
     std::set<std::string> m_warned;
     std::map<std::string, std::vector<std::string>> m_ignored;  // kind -> material labels
     std::vector<int> m_textureSlot;  // glTF texture -> Scene::textures index, -1 if unused
@@ -321,6 +321,7 @@ Scene GltfLoader::load() {
     checkExtensions();
     m_scene.path = m_path;
     readExtras();
+    m_scene.environment = loadEnvironment(m_environment);
     convertMaterials();
     traverseScene();
     for (const auto& [kind, materials] : m_ignored) {
@@ -520,6 +521,13 @@ void GltfLoader::readExtras() {
     m_scene.paperHeight = dimension("paper_height");
     if ((m_scene.paperWidth == 0) != (m_scene.paperHeight == 0)) {
         error("extras.pmcr needs both paper_width and paper_height");
+    }
+    // The environment the scene is made for (an image beside it), unless --env names one.
+    if (pmcr.Has("environment") && m_environment.value.empty()) {
+        const tinygltf::Value& env = pmcr.Get("environment");
+        if (!env.IsString() || env.Get<std::string>().empty())
+            error("extras.pmcr.environment must be a file name");
+        m_environment.value = (m_path.parent_path() / env.Get<std::string>()).string();
     }
 }
 
@@ -1305,9 +1313,8 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
 }  // namespace
 
 Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment) {
-    Environment env = loadEnvironment(environment);
     try {
-        return GltfLoader(path, std::move(env)).load();
+        return GltfLoader(path, environment).load();
     } catch (const Error&) {
         throw;
     } catch (const std::bad_alloc&) {

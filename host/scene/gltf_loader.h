@@ -13,7 +13,8 @@ namespace pmcr {
 // baseColor textures and perspective cameras, then calls finalizeScene. Every index, range and
 // value read is validated; bad input throws pmcr::Error "<file>: <problem>" (one line), input
 // pmcr only partly supports gives one warning per kind.
-// `environment` (--env) lights the scene too; a scene needs emitters or an environment.
+// `environment` (--env), else the image the file's extras.pmcr.environment names (relative to
+// the file), lights the scene too; a scene needs some light.
 Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment = {});
 
 }  // namespace pmcr

@@ -111,8 +111,8 @@ public:
         checkMeshes();
         checkNodesAndCamera();
         checkExtras();
-        if (m_report.emissiveTriangles == 0)
-            problem("no emissive triangles");
+        if (m_report.emissiveTriangles == 0 && !hasEnvironment())
+            problem("no emissive triangles and no extras.pmcr.environment");
         return m_report;
     }
 
@@ -631,6 +631,12 @@ private:
         }
         if (roots.size() != nodes.size())
             problem("the scene does not list every node");
+    }
+
+    bool hasEnvironment() const {
+        return m_json.contains("extras") && m_json["extras"].contains("pmcr") &&
+               m_json["extras"]["pmcr"].contains("environment") &&
+               m_json["extras"]["pmcr"]["environment"].is_string();
     }
 
     void checkExtras() {

@@ -267,6 +267,7 @@ std::filesystem::path writeScene(const SceneDesc& scene, const std::filesystem::
         pmcr["paper_width"] = scene.paperWidth;
         pmcr["paper_height"] = scene.paperHeight;
     }
+    if (!scene.environment.empty()) pmcr["environment"] = scene.environment;
 
     if (!external) {
         root["buffers"] = Json::array({{{"byteLength", buffer.bytes(0).size()}}});

@@ -55,6 +55,7 @@ struct SceneDesc {
     int height = 256;
     int paperWidth = 0;  // the size the papers render this scene at; 0: not written
     int paperHeight = 0;
+    std::string environment;  // extras.pmcr.environment: the --env it is lit by when none is given
     std::vector<MaterialDesc> materials;
     std::vector<ObjectDesc> objects;
     CameraDesc camera;

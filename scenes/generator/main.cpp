@@ -4,6 +4,7 @@
 //       files read them from DIR and are skipped when all scenes are written without it
 //   pmcr-scenegen --check <file.glb|file.gltf>...   check existing files
 //   pmcr-scenegen --list                             list the scenes
+//   pmcr-scenegen --sky <file.exr>                   write the clear afternoon sky (sky.h)
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -12,7 +13,9 @@
 #include "core/error.h"
 #include "gltf_check.h"
 #include "gltf_writer.h"
+#include "image/image.h"
 #include "scenes.h"
+#include "sky.h"
 
 namespace {
 
@@ -20,7 +23,8 @@ void usage() {
     std::fprintf(stderr,
                  "usage: pmcr-scenegen [--assets DIR] <output-dir> [scene-name...]\n"
                  "       pmcr-scenegen --check <file.glb|file.gltf>...\n"
-                 "       pmcr-scenegen --list\n");
+                 "       pmcr-scenegen --list\n"
+                 "       pmcr-scenegen --sky <file.exr>\n");
 }
 
 int run(std::vector<std::string> args) {
@@ -34,6 +38,15 @@ int run(std::vector<std::string> args) {
             std::printf("%-20s %s%s\n", entry.name.c_str(), entry.description.c_str(),
                         entry.asset.empty() ? "" : (" [needs " + entry.asset + "]").c_str());
         }
+        return 0;
+    }
+    if (args[0] == "--sky") {
+        if (args.size() != 2) {
+            usage();
+            return 2;
+        }
+        pmcr::writeHdr(args[1], preethamSky(SkyParams{}));
+        std::printf("%s\n", args[1].c_str());
         return 0;
     }
     if (args[0] == "--check") {

@@ -223,6 +223,9 @@ const std::vector<SceneEntry>& sceneCatalog() {
         {"glass-caustic-torus",
          "ERPT fig. 14: diffuse torus under a glass dome, lit through the glass (L S+ D E)",
          glassCausticTorus, ""},
+        {"sky-spheres",
+         "four spheres (diffuse, plastic, gold, glass) on the ground, for --env sky-afternoon.exr",
+         skySpheres, ""},
     };
     return catalog;
 }

@@ -29,6 +29,7 @@ const std::vector<SceneEntry>& sceneCatalog();
 SceneDesc checkersTwoLights(const SceneContext&);
 SceneDesc plantShadows(const SceneContext&);
 SceneDesc glassCausticTorus(const SceneContext&);
+SceneDesc skySpheres(const SceneContext&);
 SceneDesc dragonDirect(const SceneContext& context);
 SceneDesc dragonCaustic(const SceneContext& context);
 SceneDesc veachMis(const SceneContext& context);
