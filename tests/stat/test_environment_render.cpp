@@ -59,21 +59,24 @@ Scene sphereScene(Environment env) {
     return s;
 }
 
-// A 200 x 200 floor facing +y, seen straight down from 1 above it.
-Scene floorScene(Environment env) {
+// A 200 x 200 white floor facing +y, seen straight down from `height` above it, lit by `env`
+// and `punctualLights`.
+Scene floorScene(Environment env, std::vector<gpu::PunctualLight> punctualLights = {},
+                 float height = 1.0f, float yfov = 0.6f) {
     Scene s;
     s.path = "environment-floor.gltf";
     s.materials = {whiteLambertian()};
     addTriangle(s, {-100, 0, -100}, {-100, 0, 100}, {100, 0, 100}, 0);
     addTriangle(s, {-100, 0, -100}, {100, 0, 100}, {100, 0, -100}, 0);
     Camera camera;
-    camera.position = glm::vec3(0, 1, 0);
+    camera.position = glm::vec3(0, height, 0);
     camera.forward = glm::vec3(0, -1, 0);
     camera.up = glm::vec3(0, 0, -1);
     camera.right = glm::cross(camera.forward, camera.up);
-    camera.yfov = 0.6f;
+    camera.yfov = yfov;
     s.cameras.push_back(camera);
     s.environment = std::move(env);
+    s.punctualLights = std::move(punctualLights);
     finalizeScene(s);
     return s;
 }
@@ -211,23 +214,12 @@ double floorImageMean(const Scene& scene, int width, int height, int n) {
 }
 
 TEST_F(EnvironmentRender, WhiteFloorUnderPunctualLights) {
-    Scene scene;
-    scene.path = "punctual-floor.gltf";
-    scene.materials = {whiteLambertian()};
-    addTriangle(scene, {-100, 0, -100}, {-100, 0, 100}, {100, 0, 100}, 0);
-    addTriangle(scene, {-100, 0, -100}, {100, 0, 100}, {100, 0, -100}, 0);
-    Camera camera;
-    camera.position = glm::vec3(0, 2, 0);
-    camera.forward = glm::vec3(0, -1, 0);
-    camera.up = glm::vec3(0, 0, -1);
-    camera.right = glm::cross(camera.forward, camera.up);
-    camera.yfov = 1.2f;
-    scene.cameras.push_back(camera);
-    scene.punctualLights = {
-        punctual(gpu::PUNCTUAL_POINT, {0.5f, 1.0f, 0.3f}, {0, -1, 0}, {2.0f, 3.0f, 1.0f}),
-        punctual(gpu::PUNCTUAL_SPOT, {-0.6f, 1.2f, 0.0f}, {0.2f, -1, 0}, {4.0f, 5.0f, 4.0f}, 0.2f, 0.5f),
-        punctual(gpu::PUNCTUAL_DIRECTIONAL, {0, 0, 0}, {0.3f, -1, 0.2f}, {0.5f, 0.4f, 0.5f})};
-    finalizeScene(scene);
+    const Scene scene = floorScene(
+        Environment{},
+        {punctual(gpu::PUNCTUAL_POINT, {0.5f, 1.0f, 0.3f}, {0, -1, 0}, {2.0f, 3.0f, 1.0f}),
+         punctual(gpu::PUNCTUAL_SPOT, {-0.6f, 1.2f, 0.0f}, {0.2f, -1, 0}, {4.0f, 5.0f, 4.0f}, 0.2f, 0.5f),
+         punctual(gpu::PUNCTUAL_DIRECTIONAL, {0, 0, 0}, {0.3f, -1, 0.2f}, {0.5f, 0.4f, 0.5f})},
+        2.0f, 1.2f);
     const double expected = floorImageMean(scene, 24, 24, 16);
     expectMean(scene, method("pt", 8, 1), expected, "pt depth 1");
     expectMean(scene, method("pt", 8, 3), expected, "pt depth 3");
@@ -239,9 +231,8 @@ TEST_F(EnvironmentRender, WhiteFloorUnderPunctualLights) {
 // A point light and an environment together, with an emitter: light selection across the
 // three kinds must still add up (the floor's answer is the sum of each alone).
 TEST_F(EnvironmentRender, AllLightKindsTogether) {
-    Scene scene = floorScene(loadEnvironment({"0.3,0.6,0.9"}));
-    scene.punctualLights = {punctual(gpu::PUNCTUAL_POINT, {0.2f, 1.5f, -0.1f}, {0, -1, 0}, {1, 2, 3})};
-    finalizeScene(scene);
+    const Scene scene = floorScene(loadEnvironment({"0.3,0.6,0.9"}),
+                                   {punctual(gpu::PUNCTUAL_POINT, {0.2f, 1.5f, -0.1f}, {0, -1, 0}, {1, 2, 3})});
     // A constant sky of radiance L over a white floor gives L; the point light adds its part.
     const double expected = 0.6 + floorImageMean(scene, 24, 24, 16);
     expectMean(scene, method("pt", 8, 2), expected, "pt");
