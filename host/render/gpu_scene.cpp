@@ -126,8 +126,11 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         m_lightEmitterBuffer = uintTexels(m_lightGroups.emitters, "light group emitter buffer");
         m_triangleLightBuffer =
             vk::Buffer::storage(context, m_lightGroups.triangleLight, "triangle light buffer");
-        m_textureInfos = vk::Buffer::storage(context, textureInfos, "texture table");
-        m_texels = vk::Buffer::storage(context, texels, "texture buffer");
+        m_textureInfos = uintTexels(textureInfos, "texture table");
+        // Four RGBA8 texels to each 16-byte texel (shaders/common/scene.glsl texelAt).
+        std::vector<glm::uvec4> packed((texels.size() + 3) / 4, glm::uvec4(0));
+        for (size_t i = 0; i < texels.size(); ++i) packed[i / 4][int(i % 4)] = texels[i];
+        m_texels = uintTexels(packed, "texture buffer");
         m_envTexels = vk::Buffer::texels(context, envTexels, VK_FORMAT_R32G32B32A32_SFLOAT,
                                          "environment texels");
         m_envAlias = uintTexels(environmentAliasTable(env), "environment alias table");

@@ -258,7 +258,7 @@ private:
     void convertMaterials();
     gpu::Material convertMaterial(int index);
     int convertTexture(const tinygltf::TextureInfo& info, const std::string& label,
-                       const std::string& material);
+                       const std::string& material, const char* what);
     Texture decodeImage(int index);
     uint32_t defaultMaterial();
 
@@ -596,15 +596,32 @@ gpu::Material GltfLoader::convertMaterial(int index) {
     m.metallic = number(pbr.metallicFactor, "metallicFactor", 0, 1);
     m.roughness = number(pbr.roughnessFactor, "roughnessFactor", 0, 1);
     m.baseColorTexture = -1;
+    uint32_t mrTexture = 0;  // metallicRoughnessTexture + 1
     if (pbr.baseColorTexture.index != -1) {
-        m.baseColorTexture = convertTexture(pbr.baseColorTexture, label, name);
+        m.baseColorTexture = convertTexture(pbr.baseColorTexture, label, name, "baseColorTexture");
         m_texCoordSet[size_t(index)] = pbr.baseColorTexture.texCoord;
         if (pbr.baseColorTexture.extensions.count("KHR_texture_transform")) {
             ignoreFor("KHR_texture_transform is ignored", name);
         }
     }
-    if (pbr.metallicRoughnessTexture.index != -1)
-        ignoreFor("metallicRoughnessTexture is ignored", name);
+    if (pbr.metallicRoughnessTexture.index != -1) {
+        // One texture coordinate set per material (the vertices carry one): a metallicRoughness
+        // texture on another set than the base colour's is left out with a warning.
+        const int set = pbr.metallicRoughnessTexture.texCoord;
+        if (m_texCoordSet[size_t(index)] >= 0 && m_texCoordSet[size_t(index)] != set) {
+            ignoreFor("metallicRoughnessTexture on another TEXCOORD set than baseColorTexture is ignored",
+                      name);
+        } else {
+            const int texture =
+                convertTexture(pbr.metallicRoughnessTexture, label, name, "metallicRoughnessTexture");
+            if (uint32_t(texture) + 1 >= (1u << (32 - gpu::MATERIAL_MR_TEXTURE_SHIFT)))
+                error(label + ": too many textures");
+            m_texCoordSet[size_t(index)] = set;
+            mrTexture = uint32_t(texture + 1);
+            if (pbr.metallicRoughnessTexture.extensions.count("KHR_texture_transform"))
+                ignoreFor("KHR_texture_transform is ignored", name);
+        }
+    }
     if (src.normalTexture.index != -1)
         ignoreFor("normalTexture is ignored", name);
     if (src.occlusionTexture.index != -1)
@@ -672,20 +689,20 @@ gpu::Material GltfLoader::convertMaterial(int index) {
             "pmcr renders it as a solid refractive interface",
             name);
     }
-    m.flags = src.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
+    m.flags = (src.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u) |
+              (mrTexture << gpu::MATERIAL_MR_TEXTURE_SHIFT);
     return m;
 }
 
 int GltfLoader::convertTexture(const tinygltf::TextureInfo& info, const std::string& label,
-                               const std::string& material) {
+                               const std::string& material, const char* what) {
     const int index = info.index;
     if (index < 0 || size_t(index) >= m_model.textures.size()) {
-        error(label + ": baseColorTexture index " + std::to_string(index) + " out of range (" +
+        error(label + ": " + what + " index " + std::to_string(index) + " out of range (" +
               std::to_string(m_model.textures.size()) + " textures)");
     }
     if (info.texCoord < 0 || info.texCoord > 31) {
-        error(label + ": baseColorTexture texCoord " + std::to_string(info.texCoord) +
-              " out of range");
+        error(label + ": " + what + " texCoord " + std::to_string(info.texCoord) + " out of range");
     }
     const tinygltf::Texture& texture = m_model.textures[size_t(index)];
     if (texture.sampler != -1) {
@@ -1198,7 +1215,7 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
     if (texCoordSet >= 0) {
         const std::string name = "TEXCOORD_" + std::to_string(texCoordSet);
         if (!attribute(name)) {
-            error(where + " has no " + name + " for the baseColorTexture of " +
+            error(where + " has no " + name + " for the textures of " +
                   materialLabel(primitive.material));
         }
         const int texcoordIndex = *attribute(name);

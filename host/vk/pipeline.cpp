@@ -32,7 +32,8 @@ VkDescriptorType descriptorType(DescriptorSet::Kind kind, uint32_t binding) {
             binding == gpu::BINDING_TRIANGLES || binding == gpu::BINDING_MATERIALS ||
             binding == gpu::BINDING_LIGHT_GROUPS || binding == gpu::BINDING_LIGHT_EMITTERS ||
             binding == gpu::BINDING_ENV_TEXELS || binding == gpu::BINDING_ENV_ALIAS ||
-            binding == gpu::BINDING_PUNCTUAL_LIGHTS || binding == gpu::BINDING_PUNCTUAL_ALIAS)
+            binding == gpu::BINDING_PUNCTUAL_LIGHTS || binding == gpu::BINDING_PUNCTUAL_ALIAS ||
+            binding == gpu::BINDING_TEXTURE_INFOS || binding == gpu::BINDING_TEXELS)
             return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     }
     return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;

@@ -50,12 +50,16 @@ uint aliasTableTriangle(usamplerBuffer table, uint first, uint n, float u) {
                ? e.triangle
                : emitterFrom(texelFetch(table, int(first + e.alias))).triangle;
 }
-layout(set = SCENE_SET, binding = BINDING_TEXTURE_INFOS, scalar) readonly buffer TextureInfoBuffer {
-    TextureInfo textureInfos[];
-};
-layout(set = SCENE_SET, binding = BINDING_TEXELS, scalar) readonly buffer TexelBuffer {
-    uint texels[];
-};
+// The textures: their TextureInfo, and their RGBA8 texels packed four to a uint texel (texel
+// buffers, as the other scene tables: one gather for all lanes on lavapipe, where a storage
+// buffer load is a loop over the lanes).
+layout(set = SCENE_SET, binding = BINDING_TEXTURE_INFOS) uniform usamplerBuffer textureInfoTexels;
+layout(set = SCENE_SET, binding = BINDING_TEXELS) uniform usamplerBuffer textureTexels;
+
+TextureInfo textureInfoAt(int i) {
+    uvec4 t = texelFetch(textureInfoTexels, i);
+    return TextureInfo(t.x, t.y, t.z, t.w);
+}
 
 #include "common/bvh.glsl"
 
@@ -102,26 +106,54 @@ vec3 srgbToLinear(vec3 c) {
     return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }
 
+// A texel as stored (8 bits per channel, in [0, 1]), REPEAT wrapping.
 vec3 texelAt(TextureInfo info, int x, int y) {
-    // REPEAT wrapping.
     x = int(uint(x % int(info.width) + int(info.width)) % info.width);
     y = int(uint(y % int(info.height) + int(info.height)) % info.height);
-    return srgbToLinear(unpackUnorm4x8(texels[info.offset + uint(y) * info.width + uint(x)]).rgb);
+    uint i = info.offset + uint(y) * info.width + uint(x);
+    return unpackUnorm4x8(texelFetch(textureTexels, int(i >> 2))[i & 3u]).rgb;
 }
 
-// Bilinear lookup of a base colour texture; uv (0,0) is the image's top-left (glTF).
-vec3 sampleTexture(int index, vec2 uv) {
-    TextureInfo info = textureInfos[index];
+// Bilinear lookup of a texture; uv (0,0) is the image's top-left (glTF). Colour textures are
+// sRGB-encoded (decoded per texel, before filtering), data textures (metallicRoughness) linear.
+vec3 sampleTexture(int index, vec2 uv, bool srgb) {
+    TextureInfo info = textureInfoAt(index);
     vec2 p = uv * vec2(info.width, info.height) - 0.5;
     vec2 f = p - floor(p);
     int x = int(floor(p.x));
     int y = int(floor(p.y));
-    return mix(mix(texelAt(info, x, y), texelAt(info, x + 1, y), f.x),
-               mix(texelAt(info, x, y + 1), texelAt(info, x + 1, y + 1), f.x), f.y);
+    vec3 t00 = texelAt(info, x, y);
+    vec3 t10 = texelAt(info, x + 1, y);
+    vec3 t01 = texelAt(info, x, y + 1);
+    vec3 t11 = texelAt(info, x + 1, y + 1);
+    if (srgb) {
+        t00 = srgbToLinear(t00);
+        t10 = srgbToLinear(t10);
+        t01 = srgbToLinear(t01);
+        t11 = srgbToLinear(t11);
+    }
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
 }
 
-vec3 materialBaseColor(Material m, vec2 uv) {
-    return m.baseColorTexture >= 0 ? m.baseColor * sampleTexture(m.baseColorTexture, uv) : m.baseColor;
+// A material's base colour, metallic and roughness at uv: its factors, times its textures
+// (glTF 2.0 section 3.9.2: baseColorTexture, sRGB; metallicRoughnessTexture's blue and green
+// channels, linear). The lookups run in a loop over the textures the material has, not under
+// ifs: lavapipe runs both sides of an if whatever its lanes take, but leaves a loop as soon as
+// no lane is still in it, so a vector of untextured materials skips them.
+void materialTextures(Material m, vec2 uv, out vec3 baseColor, out vec2 metallicRoughness) {
+    baseColor = m.baseColor;
+    metallicRoughness = vec2(m.metallic, m.roughness);
+    int mrTexture = int(m.flags >> MATERIAL_MR_TEXTURE_SHIFT) - 1;
+    int count = (m.baseColorTexture >= 0 ? 1 : 0) + (mrTexture >= 0 ? 1 : 0);
+    for (int k = 0; k < count; ++k) {
+        bool base = k == 0 && m.baseColorTexture >= 0;
+        vec3 t = sampleTexture(base ? m.baseColorTexture : mrTexture, uv, base);
+        if (base) {
+            baseColor *= t;
+        } else {
+            metallicRoughness *= t.bg;
+        }
+    }
 }
 
 // Radiance emitted by a surface towards direction w (unit, away from the surface): area lights

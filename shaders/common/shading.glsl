@@ -24,7 +24,10 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     sh.frame = frameFromNormal(sh.front ? s.shadingNormal : -s.shadingNormal);
     sh.woLocal = toLocal(sh.frame, wo);
     Material m = materialAt(s.material);
-    sh.bsdf = makeBsdf(materialBaseColor(m, s.uv), m.metallic, m.roughness, m.transmission, m.ior,
+    vec3 baseColor;
+    vec2 metallicRoughness;
+    materialTextures(m, s.uv, baseColor, metallicRoughness);
+    sh.bsdf = makeBsdf(baseColor, metallicRoughness.x, metallicRoughness.y, m.transmission, m.ior,
                        sh.front);
     return sh;
 }

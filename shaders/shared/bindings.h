@@ -13,8 +13,8 @@ PMCR_CONST uint BINDING_BVH = 4;             // uvec4 texel buffer: nodes and tr
 PMCR_CONST uint BINDING_MATERIALS = 5;       // Material[] as a uint texel buffer, MATERIAL_TEXELS each
 PMCR_CONST uint BINDING_PUNCTUAL_ALIAS = 6;   // Emitter[] as a uint texel buffer: an alias table over
                                              // the punctual lights' power (`triangle`: the light)
-PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[]
-PMCR_CONST uint BINDING_TEXELS = 8;          // uint[] (RGBA8, sRGB-encoded colour)
+PMCR_CONST uint BINDING_TEXTURE_INFOS = 7;   // TextureInfo[] as a uint texel buffer
+PMCR_CONST uint BINDING_TEXELS = 8;          // the textures' RGBA8 texels, four to a uint texel
 PMCR_CONST uint BINDING_LIGHT_GROUPS = 9;     // LightGroup[] as a uint texel buffer: the lights
                                               // (connected emitters, PMC-HI), then all emitters
 PMCR_CONST uint BINDING_LIGHT_EMITTERS = 10;  // Emitter[] as a uint texel buffer (their alias tables)

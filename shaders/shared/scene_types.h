@@ -91,8 +91,10 @@ struct BvhQuery {
 };
 PMCR_CHECK_SIZE(BvhQuery, 32);
 
-// Material flags.
+// Material flags. Bits MATERIAL_MR_TEXTURE_SHIFT and up hold the metallicRoughnessTexture's
+// index + 1 (0: none), so that the material stays three texels (fetched at every hit).
 PMCR_CONST uint MATERIAL_DOUBLE_SIDED = 1u;   // emits from both faces; two-sided shading
+PMCR_CONST uint MATERIAL_MR_TEXTURE_SHIFT = 8u;
 
 // The glTF metallic-roughness model as pmcr interprets it (see host/scene/material.h):
 // a mixture of up to three lobes with weights
@@ -104,9 +106,9 @@ struct Material {
     vec3 baseColor;
     int baseColorTexture;  // index into TextureInfo[], -1 for none
     vec3 emission;         // emitted radiance (emissiveFactor * KHR_materials_emissive_strength)
-    uint flags;
-    float metallic;
-    float roughness;       // perceptual; GGX alpha = roughness^2
+    uint flags;            // MATERIAL_* bits, and the metallicRoughnessTexture (above)
+    float metallic;        // times the metallicRoughnessTexture's blue channel, when it has one
+    float roughness;       // perceptual; GGX alpha = roughness^2; times the texture's green
     float transmission;
     float ior;
 };

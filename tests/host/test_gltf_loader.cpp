@@ -640,6 +640,46 @@ TEST(GltfLoader, DecodesBaseColorTextureFromDataUriWithItsTexCoordSet) {
     EXPECT_EQ(countOf(warnings, "wrap modes"), 1u) << warnings;
 }
 
+// metallicRoughnessTexture: decoded like a colour texture, its slot + 1 in the material's flags
+// (MATERIAL_MR_TEXTURE_SHIFT), sharing the texture the base colour uses; on another TEXCOORD set
+// than the base colour's it is left out with a warning.
+TEST(GltfLoader, MetallicRoughnessTexture) {
+    GltfBuilder b;
+    b.addLight();
+    b.push("images", {{"uri", "data:image/bmp;base64," + base64(tinyBmp())}});
+    b.push("textures", {{"source", 0}});
+    const int shared = b.material(
+        {{"name", "Shared"},
+         {"pbrMetallicRoughness",
+          {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}}}});
+    const int alone = b.material(
+        {{"name", "Alone"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}, {"texCoord", 1}}}}}});
+    const int mixed = b.material(
+        {{"name", "Mixed"},
+         {"pbrMetallicRoughness",
+          {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}, {"texCoord", 1}}}}}});
+    for (int m : {shared, alone, mixed}) {
+        const json primitive = {{"attributes",
+                                 {{"POSITION", b.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})},
+                                  {"TEXCOORD_0", b.vec2s({{0, 0}, {1, 0}, {0, 1}})},
+                                  {"TEXCOORD_1", b.vec2s({{0.5f, 0.5f}, {1, 0}, {0, 1}})}}},
+                                {"material", m}};
+        b.node({{"mesh", b.mesh(primitive)}});
+    }
+    std::string warnings;
+    const Scene s = loadQuietly(b.writeGltf(test::tempDir("mr-texture"), "mr"), &warnings);
+    ASSERT_EQ(s.textures.size(), 1u);  // one image, decoded once
+    auto mrTexture = [&](int m) { return s.materials[size_t(m)].flags >> gpu::MATERIAL_MR_TEXTURE_SHIFT; };
+    EXPECT_EQ(mrTexture(shared), 1u);
+    EXPECT_EQ(mrTexture(alone), 1u);
+    EXPECT_EQ(mrTexture(mixed), 0u);
+    EXPECT_EQ(s.materials[size_t(mixed)].baseColorTexture, 0);
+    EXPECT_EQ(countOf(warnings, "metallicRoughnessTexture on another TEXCOORD set"), 1u) << warnings;
+    // "Alone" takes its uvs from TEXCOORD_1 (its third primitive's first vertex is (0.5, 0.5)).
+    const gpu::Vertex& v = s.vertices[s.triangles[2].i0];
+    EXPECT_FLOAT_EQ(v.u, 0.5f);
+}
+
 TEST(GltfLoader, DecodesSixteenBitGreyTextureFromBufferView) {
     GltfBuilder b;
     b.addLight();
