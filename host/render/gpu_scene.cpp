@@ -105,7 +105,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     std::vector<gpu::TextureInfo> textureInfos;
     std::vector<uint32_t> texels;
     for (const Texture& t : scene.textures) {
-        textureInfos.push_back({uint32_t(texels.size()), t.width, t.height, 0});
+        textureInfos.push_back({uint32_t(texels.size()), t.width, t.height, t.wrap});
         texels.insert(texels.end(), t.rgba8.begin(), t.rgba8.end());
     }
 

@@ -18,6 +18,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/gtc/constants.hpp>
@@ -46,7 +47,7 @@ constexpr size_t kMaxMessage = 300;
 const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                     "KHR_materials_transmission",
                                                     "KHR_materials_ior", "KHR_materials_volume",
-                                                    "KHR_lights_punctual"};
+                                                    "KHR_lights_punctual", "KHR_texture_transform"};
 
 // tinygltf's (possibly multi-line, possibly data-URI-sized) messages as one short line.
 std::string oneLine(const std::string& text) {
@@ -285,7 +286,8 @@ private:
     std::set<std::string> m_warned;
     std::map<std::string, std::vector<std::string>> m_ignored;  // kind -> material labels
     std::vector<int> m_textureSlot;  // glTF texture -> Scene::textures index, -1 if unused
-    std::vector<int> m_texCoordSet;  // per material: TEXCOORD_n of its baseColorTexture
+    std::vector<int> m_texCoordSet;  // per material: TEXCOORD_n its textures read
+    std::vector<glm::dmat3> m_uvTransform;  // per material: KHR_texture_transform of those uvs
     int m_defaultMaterial = -1;
 };
 
@@ -488,7 +490,7 @@ void GltfLoader::checkExtensions() {
         }
     }
     for (const std::string& name : m_model.extensionsUsed) {
-        if (kSupportedExtensions.count(name) || name == "KHR_texture_transform")
+        if (kSupportedExtensions.count(name))
             continue;
         warnOnce("extension " + inQuotes(name) + " is not supported and is ignored");
     }
@@ -537,6 +539,7 @@ void GltfLoader::readExtras() {
 void GltfLoader::convertMaterials() {
     m_textureSlot.assign(m_model.textures.size(), -1);
     m_texCoordSet.assign(m_model.materials.size(), -1);
+    m_uvTransform.assign(m_model.materials.size(), glm::dmat3(1.0));
     for (int i = 0; i < int(m_model.materials.size()); ++i) {
         m_scene.materials.push_back(convertMaterial(i));
         const std::string& name = m_model.materials[size_t(i)].name;
@@ -597,19 +600,55 @@ gpu::Material GltfLoader::convertMaterial(int index) {
     m.roughness = number(pbr.roughnessFactor, "roughnessFactor", 0, 1);
     m.baseColorTexture = -1;
     uint32_t mrTexture = 0;  // metallicRoughnessTexture + 1
+    // The texture coordinates a texture reads: its TEXCOORD set and KHR_texture_transform, which
+    // may override the set and maps uv to T R S uv (the extension's matrix: offset, rotation
+    // counter-clockwise in radians, scale). Both are baked into the material's vertex uvs.
+    auto mapping = [&](const tinygltf::TextureInfo& info, const char* what) {
+        std::pair<int, glm::dmat3> out{info.texCoord, glm::dmat3(1.0)};
+        auto ext = info.extensions.find("KHR_texture_transform");
+        if (ext == info.extensions.end()) return out;
+        const tinygltf::Value& t = ext->second;
+        const std::string where = label + ": " + what + " KHR_texture_transform";
+        auto pair = [&](const char* key, double fallback) {
+            glm::dvec2 v(fallback);
+            if (!t.Has(key)) return v;
+            const tinygltf::Value& a = t.Get(key);
+            if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+                error(where + "." + key + " needs 2 numbers");
+            v = {a.Get(0).GetNumberAsDouble(), a.Get(1).GetNumberAsDouble()};
+            if (!std::isfinite(v.x) || !std::isfinite(v.y)) error(where + "." + key + " is not finite");
+            return v;
+        };
+        const glm::dvec2 offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+        const double rotation = member(t, "KHR_texture_transform", "rotation", 0.0);
+        if (!std::isfinite(rotation)) error(where + ".rotation is not finite");
+        if (t.Has("texCoord")) {
+            const double set = member(t, "KHR_texture_transform", "texCoord", 0.0);
+            if (!(set >= 0 && set <= 31 && set == std::floor(set))) error(where + ".texCoord out of range");
+            out.first = int(set);
+        }
+        const double c = std::cos(rotation), sn = std::sin(rotation);
+        const glm::dmat3 T(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);  // column-major, as the extension
+        const glm::dmat3 R(c, sn, 0, -sn, c, 0, 0, 0, 1);
+        const glm::dmat3 S(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+        out.second = T * R * S;
+        return out;
+    };
+    bool mapped = false;
     if (pbr.baseColorTexture.index != -1) {
         m.baseColorTexture = convertTexture(pbr.baseColorTexture, label, name, "baseColorTexture");
-        m_texCoordSet[size_t(index)] = pbr.baseColorTexture.texCoord;
-        if (pbr.baseColorTexture.extensions.count("KHR_texture_transform")) {
-            ignoreFor("KHR_texture_transform is ignored", name);
-        }
+        std::tie(m_texCoordSet[size_t(index)], m_uvTransform[size_t(index)]) =
+            mapping(pbr.baseColorTexture, "baseColorTexture");
+        mapped = true;
     }
     if (pbr.metallicRoughnessTexture.index != -1) {
-        // One texture coordinate set per material (the vertices carry one): a metallicRoughness
-        // texture on another set than the base colour's is left out with a warning.
-        const int set = pbr.metallicRoughnessTexture.texCoord;
-        if (m_texCoordSet[size_t(index)] >= 0 && m_texCoordSet[size_t(index)] != set) {
-            ignoreFor("metallicRoughnessTexture on another TEXCOORD set than baseColorTexture is ignored",
+        // One texture coordinate mapping per material (the vertices carry one uv): a
+        // metallicRoughness texture read through another set or transform than the base colour
+        // is left out with a warning.
+        const auto [set, transform] = mapping(pbr.metallicRoughnessTexture, "metallicRoughnessTexture");
+        if (mapped && (m_texCoordSet[size_t(index)] != set || m_uvTransform[size_t(index)] != transform)) {
+            ignoreFor("metallicRoughnessTexture with another TEXCOORD set or texture transform than "
+                      "baseColorTexture is ignored",
                       name);
         } else {
             const int texture =
@@ -617,9 +656,8 @@ gpu::Material GltfLoader::convertMaterial(int index) {
             if (uint32_t(texture) + 1 >= (1u << (32 - gpu::MATERIAL_MR_TEXTURE_SHIFT)))
                 error(label + ": too many textures");
             m_texCoordSet[size_t(index)] = set;
+            m_uvTransform[size_t(index)] = transform;
             mrTexture = uint32_t(texture + 1);
-            if (pbr.metallicRoughnessTexture.extensions.count("KHR_texture_transform"))
-                ignoreFor("KHR_texture_transform is ignored", name);
         }
     }
     if (src.normalTexture.index != -1)
@@ -705,6 +743,7 @@ int GltfLoader::convertTexture(const tinygltf::TextureInfo& info, const std::str
         error(label + ": " + what + " texCoord " + std::to_string(info.texCoord) + " out of range");
     }
     const tinygltf::Texture& texture = m_model.textures[size_t(index)];
+    uint32_t wrap = 0;
     if (texture.sampler != -1) {
         if (texture.sampler < 0 || size_t(texture.sampler) >= m_model.samplers.size()) {
             error("texture " + std::to_string(index) + ": sampler " +
@@ -712,10 +751,17 @@ int GltfLoader::convertTexture(const tinygltf::TextureInfo& info, const std::str
                   std::to_string(m_model.samplers.size()) + " samplers)");
         }
         const tinygltf::Sampler& sampler = m_model.samplers[size_t(texture.sampler)];
-        if (sampler.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT ||
-            sampler.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT) {
-            ignoreFor("texture wrap modes other than REPEAT are rendered as REPEAT", material);
-        }
+        auto mode = [&](int glMode) -> uint32_t {
+            switch (glMode) {
+                case TINYGLTF_TEXTURE_WRAP_REPEAT: return gpu::WRAP_REPEAT;
+                case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return gpu::WRAP_CLAMP;
+                case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return gpu::WRAP_MIRROR;
+                default:
+                    error("sampler " + std::to_string(texture.sampler) + ": unknown wrap mode " +
+                          std::to_string(glMode));
+            }
+        };
+        wrap = mode(sampler.wrapS) | (mode(sampler.wrapT) << 2);
     }
     int& slot = m_textureSlot[size_t(index)];
     if (slot < 0) {
@@ -728,6 +774,7 @@ int GltfLoader::convertTexture(const tinygltf::TextureInfo& info, const std::str
         }
         slot = int(m_scene.textures.size());
         m_scene.textures.push_back(decodeImage(texture.source));
+        m_scene.textures.back().wrap = wrap;
     }
     return slot;
 }
@@ -1168,6 +1215,7 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
 
     uint32_t material = 0;
     int texCoordSet = -1;
+    glm::dmat3 uvTransform(1.0);
     if (primitive.material == -1) {
         material = defaultMaterial();
     } else if (primitive.material < 0 || size_t(primitive.material) >= m_model.materials.size()) {
@@ -1176,6 +1224,7 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
     } else {
         material = uint32_t(primitive.material);
         texCoordSet = m_texCoordSet[size_t(primitive.material)];
+        uvTransform = m_uvTransform[size_t(primitive.material)];
     }
 
     auto attribute = [&](const std::string& name) -> const int* {
@@ -1313,8 +1362,9 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
                 error(where + ": TEXCOORD_" + std::to_string(texCoordSet) +
                       " holds a non-finite value");
             }
-            v.u = uv.x;
-            v.v = uv.y;
+            const glm::dvec3 mapped = uvTransform * glm::dvec3(uv, 1.0);
+            v.u = float(mapped.x);
+            v.v = float(mapped.y);
         }
         m_scene.vertices.push_back(v);
     }

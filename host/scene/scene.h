@@ -29,6 +29,7 @@ struct Texture {
     uint32_t width = 0;
     uint32_t height = 0;
     std::vector<uint32_t> rgba8;
+    uint32_t wrap = 0;  // gpu::TextureInfo::wrap: its sampler's wrap modes
 };
 
 // The environment light (--env; host/scene/environment.h): radiance arriving from infinitely

@@ -106,10 +106,18 @@ vec3 srgbToLinear(vec3 c) {
     return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }
 
-// A texel as stored (8 bits per channel, in [0, 1]), REPEAT wrapping.
+// Texel coordinate x of a texture n texels wide under wrap mode `mode` (glTF 2.0 section 3.8.4.3).
+int wrapTexel(int x, int n, uint mode) {
+    int repeat = int(uint(x % n + n) % uint(n));
+    int period = int(uint(x % (2 * n) + 2 * n) % uint(2 * n));
+    int mirror = period < n ? period : 2 * n - 1 - period;
+    return mode == WRAP_CLAMP ? clamp(x, 0, n - 1) : mode == WRAP_MIRROR ? mirror : repeat;
+}
+
+// A texel as stored (8 bits per channel, in [0, 1]).
 vec3 texelAt(TextureInfo info, int x, int y) {
-    x = int(uint(x % int(info.width) + int(info.width)) % info.width);
-    y = int(uint(y % int(info.height) + int(info.height)) % info.height);
+    x = wrapTexel(x, int(info.width), info.wrap & 3u);
+    y = wrapTexel(y, int(info.height), info.wrap >> 2);
     uint i = info.offset + uint(y) * info.width + uint(x);
     return unpackUnorm4x8(texelFetch(textureTexels, int(i >> 2))[i & 3u]).rgb;
 }

@@ -144,11 +144,16 @@ static_assert(sizeof(Vertex) == 16 * VERTEX_TEXELS && sizeof(Material) == 16 * M
 
 PMCR_CONST uint LIGHT_NONE = 0xFFFFFFFFu;  // triangleLight of a triangle that does not emit
 
+// Texture wrap modes (glTF samplers), two bits per axis: wrap & 3 along u, wrap >> 2 along v.
+PMCR_CONST uint WRAP_REPEAT = 0;
+PMCR_CONST uint WRAP_CLAMP = 1;     // CLAMP_TO_EDGE
+PMCR_CONST uint WRAP_MIRROR = 2;    // MIRRORED_REPEAT
+
 struct TextureInfo {
     uint offset;           // first texel in the texel buffer
     uint width;
     uint height;
-    uint pad;
+    uint wrap;             // WRAP_* along u | (WRAP_* along v) << 2
 };
 PMCR_CHECK_SIZE(TextureInfo, 16);
 

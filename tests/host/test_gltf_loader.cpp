@@ -637,7 +637,50 @@ TEST(GltfLoader, DecodesBaseColorTextureFromDataUriWithItsTexCoordSet) {
     const gpu::Vertex& v = s.vertices[s.triangles[1].i0];
     EXPECT_FLOAT_EQ(v.u, 0.25f);
     EXPECT_FLOAT_EQ(v.v, 0.5f);
-    EXPECT_EQ(countOf(warnings, "wrap modes"), 1u) << warnings;
+    EXPECT_EQ(t.wrap, gpu::WRAP_CLAMP | (gpu::WRAP_REPEAT << 2));  // CLAMP_TO_EDGE along u
+    EXPECT_EQ(countOf(warnings, "wrap"), 0u) << warnings;
+}
+
+// KHR_texture_transform: the material's vertex uvs become T R S uv (offset, counter-clockwise
+// rotation, scale), from the set its texCoord overrides; a sampler's MIRRORED_REPEAT is kept.
+TEST(GltfLoader, TextureTransformIsBakedIntoTheUvs) {
+    GltfBuilder b;
+    b.addLight();
+    b.useExtension("KHR_texture_transform");
+    b.push("images", {{"uri", "data:image/bmp;base64," + base64(tinyBmp())}});
+    b.push("samplers", {{"wrapS", 33648}, {"wrapT", 33648}});  // MIRRORED_REPEAT
+    b.push("textures", {{"source", 0}, {"sampler", 0}});
+    const double quarter = std::acos(0.0);  // pi / 2
+    const int m = b.material(
+        {{"name", "Transformed"},
+         {"pbrMetallicRoughness",
+          {{"baseColorTexture",
+            {{"index", 0},
+             {"extensions",
+              {{"KHR_texture_transform",
+                {{"offset", {0.5, 0.25}}, {"rotation", quarter}, {"scale", {2.0, 3.0}}, {"texCoord", 1}}}}}}}}}});
+    const json primitive = {{"attributes",
+                             {{"POSITION", b.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})},
+                              {"TEXCOORD_0", b.vec2s({{9, 9}, {9, 9}, {9, 9}})},
+                              {"TEXCOORD_1", b.vec2s({{1, 0}, {0, 1}, {0, 0}})}}},
+                            {"material", m}};
+    b.node({{"mesh", b.mesh(primitive)}});
+    std::string warnings;
+    const Scene s = loadQuietly(b.writeGltf(test::tempDir("uv-transform"), "uv"), &warnings);
+    EXPECT_EQ(countOf(warnings, "KHR_texture_transform"), 0u) << warnings;
+    EXPECT_EQ(s.textures[0].wrap, gpu::WRAP_MIRROR | (gpu::WRAP_MIRROR << 2));
+    // uv (1, 0): scale -> (2, 0), rotate by pi/2 -> (0, 2), offset -> (0.5, 2.25).
+    const gpu::Vertex& a = s.vertices[s.triangles[1].i0];
+    EXPECT_NEAR(a.u, 0.5f, 1e-6f);
+    EXPECT_NEAR(a.v, 2.25f, 1e-6f);
+    // uv (0, 1): scale -> (0, 3), rotate -> (-3, 0), offset -> (-2.5, 0.25). The triangle's
+    // second vertex may be its third (winding), so find it by position.
+    for (uint32_t i : {s.triangles[1].i1, s.triangles[1].i2}) {
+        if (s.vertices[i].position.x == 1.0f) {
+            EXPECT_NEAR(s.vertices[i].u, -2.5f, 1e-6f);
+            EXPECT_NEAR(s.vertices[i].v, 0.25f, 1e-6f);
+        }
+    }
 }
 
 // metallicRoughnessTexture: decoded like a colour texture, its slot + 1 in the material's flags
@@ -674,7 +717,7 @@ TEST(GltfLoader, MetallicRoughnessTexture) {
     EXPECT_EQ(mrTexture(alone), 1u);
     EXPECT_EQ(mrTexture(mixed), 0u);
     EXPECT_EQ(s.materials[size_t(mixed)].baseColorTexture, 0);
-    EXPECT_EQ(countOf(warnings, "metallicRoughnessTexture on another TEXCOORD set"), 1u) << warnings;
+    EXPECT_EQ(countOf(warnings, "metallicRoughnessTexture with another TEXCOORD set"), 1u) << warnings;
     // "Alone" takes its uvs from TEXCOORD_1 (its third primitive's first vertex is (0.5, 0.5)).
     const gpu::Vertex& v = s.vertices[s.triangles[2].i0];
     EXPECT_FLOAT_EQ(v.u, 0.5f);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "gpu_test.h"
 #include "render_test.h"
@@ -14,19 +15,26 @@
 namespace pmcr::test {
 namespace {
 
-// A floor of `floor` under a small emitter, seen from above; textures[0] is one texel `rgba`.
-Scene texturedFloor(gpu::Material floor, uint32_t rgba) {
+// A floor of `floor` under a small emitter, seen from above; textures[0] is one texel `rgba`
+// (or the row `texels`, wrapped by `wrap`), read at `uv` everywhere.
+Scene texturedFloor(gpu::Material floor, uint32_t rgba, std::vector<uint32_t> texels = {},
+                    uint32_t wrap = 0, glm::vec2 uv = glm::vec2(0.0f)) {
     Scene s;
     s.path = "textured-floor.gltf";
     s.materials = {floor, testMaterial(glm::vec3(4.0f))};
     addTriangle(s, {-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, 0);
     addTriangle(s, {-2, 0, -2}, {2, 0, 2}, {2, 0, -2}, 0);
     addTriangle(s, {-0.3f, 1.5f, -0.3f}, {0.3f, 1.5f, 0.3f}, {-0.3f, 1.5f, 0.3f}, 1);  // facing down
+    for (gpu::Vertex& v : s.vertices) {
+        v.u = uv.x;
+        v.v = uv.y;
+    }
     Texture t;
-    t.name = "metallic-roughness";
-    t.width = 1;
+    t.name = "test-texture";
+    t.rgba8 = texels.empty() ? std::vector<uint32_t>{rgba} : texels;
+    t.width = uint32_t(t.rgba8.size());
     t.height = 1;
-    t.rgba8 = {rgba};
+    t.wrap = wrap;
     s.textures.push_back(t);
     Camera camera;
     camera.position = glm::vec3(0, 3, 3);
@@ -90,6 +98,36 @@ TEST_F(MaterialTextures, BaseColorTextureIsDecodedFromSrgb) {
     }
     EXPECT_GT(norm, 0.0);
     EXPECT_LT(err, 1e-10 * norm) << "the same samples should differ by float rounding at most";
+}
+
+// A texture two texels wide (red, blue) read outside [0, 1]: at u = 5.25 REPEAT lands on red,
+// at u = 5 CLAMP_TO_EDGE on blue, at u = 1.25 MIRRORED_REPEAT on blue (each exactly on a texel).
+TEST_F(MaterialTextures, WrapModes) {
+    const std::vector<uint32_t> redBlue = {0xFF0000FFu, 0xFFFF0000u};
+    gpu::Material textured = testMaterial(glm::vec3(0.0f));
+    textured.baseColor = glm::vec3(1.0f);
+    textured.baseColorTexture = 0;
+    gpu::Material red = testMaterial(glm::vec3(0.0f));
+    red.baseColor = glm::vec3(1.0f, 0.0f, 0.0f);
+    gpu::Material blue = red;
+    blue.baseColor = glm::vec3(0.0f, 0.0f, 1.0f);
+    auto close = [](const Image& a, const Image& e) {
+        double err = 0.0, norm = 0.0;
+        for (size_t i = 0; i < a.rgb.size(); ++i) {
+            err += (a.rgb[i] - e.rgb[i]) * (a.rgb[i] - e.rgb[i]);
+            norm += e.rgb[i] * e.rgb[i];
+        }
+        return norm > 0.0 && err < 1e-10 * norm;
+    };
+    EXPECT_TRUE(close(render(texturedFloor(textured, 0, redBlue, gpu::WRAP_REPEAT, {5.25f, 0.5f})),
+                      render(texturedFloor(red, 0))))
+        << "REPEAT";
+    EXPECT_TRUE(close(render(texturedFloor(textured, 0, redBlue, gpu::WRAP_CLAMP, {5.0f, 0.5f})),
+                      render(texturedFloor(blue, 0))))
+        << "CLAMP_TO_EDGE";
+    EXPECT_TRUE(close(render(texturedFloor(textured, 0, redBlue, gpu::WRAP_MIRROR, {1.25f, 0.5f})),
+                      render(texturedFloor(blue, 0))))
+        << "MIRRORED_REPEAT";
 }
 
 }  // namespace
