@@ -106,18 +106,20 @@ vec3 srgbToLinear(vec3 c) {
     return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }
 
-// Texel coordinate x of a texture n texels wide under wrap mode `mode` (glTF 2.0 section 3.8.4.3).
-int wrapTexel(int x, int n, uint mode) {
-    int repeat = int(uint(x % n + n) % uint(n));
-    int period = int(uint(x % (2 * n) + 2 * n) % uint(2 * n));
-    int mirror = period < n ? period : 2 * n - 1 - period;
-    return mode == WRAP_CLAMP ? clamp(x, 0, n - 1) : mode == WRAP_MIRROR ? mirror : repeat;
+// Texel coordinate x (an integer) of a texture n texels wide under wrap mode `mode` (glTF 2.0
+// section 3.8.4.3). In float arithmetic, exact below 2^24: lavapipe has no vector integer
+// division, so an integer % would be a loop over the lanes.
+int wrapTexel(float x, float n, uint mode) {
+    float repeat = x - n * floor(x / n);
+    float period = x - 2.0 * n * floor(x / (2.0 * n));
+    float mirror = period < n ? period : 2.0 * n - 1.0 - period;
+    return int(mode == WRAP_CLAMP ? clamp(x, 0.0, n - 1.0) : mode == WRAP_MIRROR ? mirror : repeat);
 }
 
 // A texel as stored (8 bits per channel, in [0, 1]).
-vec3 texelAt(TextureInfo info, int x, int y) {
-    x = wrapTexel(x, int(info.width), info.wrap & 3u);
-    y = wrapTexel(y, int(info.height), info.wrap >> 2);
+vec3 texelAt(TextureInfo info, float fx, float fy) {
+    int x = wrapTexel(fx, float(info.width), info.wrap & 3u);
+    int y = wrapTexel(fy, float(info.height), info.wrap >> 2);
     uint i = info.offset + uint(y) * info.width + uint(x);
     return unpackUnorm4x8(texelFetch(textureTexels, int(i >> 2))[i & 3u]).rgb;
 }
@@ -128,12 +130,12 @@ vec3 sampleTexture(int index, vec2 uv, bool srgb) {
     TextureInfo info = textureInfoAt(index);
     vec2 p = uv * vec2(info.width, info.height) - 0.5;
     vec2 f = p - floor(p);
-    int x = int(floor(p.x));
-    int y = int(floor(p.y));
+    float x = floor(p.x);
+    float y = floor(p.y);
     vec3 t00 = texelAt(info, x, y);
-    vec3 t10 = texelAt(info, x + 1, y);
-    vec3 t01 = texelAt(info, x, y + 1);
-    vec3 t11 = texelAt(info, x + 1, y + 1);
+    vec3 t10 = texelAt(info, x + 1.0, y);
+    vec3 t01 = texelAt(info, x, y + 1.0);
+    vec3 t11 = texelAt(info, x + 1.0, y + 1.0);
     if (srgb) {
         t00 = srgbToLinear(t00);
         t10 = srgbToLinear(t10);
