@@ -148,8 +148,10 @@ vec3 sampleTexture(int index, vec2 uv, bool srgb) {
 // A material's base colour, metallic and roughness at uv: its factors, times its textures
 // (glTF 2.0 section 3.9.2: baseColorTexture, sRGB; metallicRoughnessTexture's blue and green
 // channels, linear). The lookups run in a loop over the textures the material has, not under
-// ifs: lavapipe runs both sides of an if whatever its lanes take, but leaves a loop as soon as
-// no lane is still in it, so a vector of untextured materials skips them.
+// one if per texture: lavapipe runs both sides of an if whatever its lanes take, and a loop's
+// body once (masked) and then only while a lane is still in it, so every vector pays for one
+// lookup and only vectors with two textures for the second (measured on pt: two ifs cost 7% of
+// its samples/s, the loop about 1%).
 void materialTextures(Material m, vec2 uv, out vec3 baseColor, out vec2 metallicRoughness) {
     baseColor = m.baseColor;
     metallicRoughness = vec2(m.metallic, m.roughness);
