@@ -662,8 +662,13 @@ gpu::Material GltfLoader::convertMaterial(int index) {
     }
     if (src.normalTexture.index != -1)
         ignoreFor("normalTexture is ignored", name);
-    if (src.occlusionTexture.index != -1)
-        ignoreFor("occlusionTexture is ignored", name);
+    if (src.occlusionTexture.index != -1) {
+        // Baked ambient occlusion darkens indirect light a rasterizer cannot trace; a path
+        // tracer computes that occlusion itself, so applying it would count it twice.
+        ignoreFor("occlusionTexture is not used (a path tracer computes occlusion; baked ambient "
+                  "occlusion would count it twice)",
+                  name);
+    }
     if (src.emissiveTexture.index != -1) {
         ignoreFor("emissiveTexture is ignored (emission is emissiveFactor only)", name);
     }
