@@ -5,7 +5,7 @@
 // are measured in the same run on the same machine.
 //
 //   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N] [--threads T]
-//                         [--cpu-time] [--steps] [--json] [SCENE...]
+//                         [--cpu-time] [--steps] [--rays-per-invocation P] [--json] [SCENE...]
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -40,7 +40,8 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kUsage =
     "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N]\n"
-    "                             [--threads T] [--cpu-time] [--steps] [--json] SCENE...\n"
+    "                             [--threads T] [--cpu-time] [--steps]\n"
+    "                             [--rays-per-invocation P] [--json] SCENE...\n"
     "       (bench/throughput runs it on the default scene and the dragon)\n"
     "\n"
     "Traces three ray sets: primary rays (one per pixel of a W x H image, default 256 x 256,\n"
@@ -67,6 +68,8 @@ const char* const kUsage =
     "                        triangles) and the share of an 8-lane vector's steps that do work\n"
     "                        (the loop runs until its slowest lane is done), and the GPU's\n"
     "                        Mrays/s on the same rays sorted by their steps (lanes kept busy)\n"
+    "  --rays-per-invocation P  trace P rays in turn per invocation, a lane starting its next\n"
+    "                        ray when its last ends (1..64, default 1)\n"
     "  --cpu-time            also print Mrays/s per CPU second: the process's CPU time during\n"
     "                        the dispatch (on lavapipe, its worker threads) and the tracing\n"
     "                        thread's CPU time; steadier than wall time on a loaded machine\n";
@@ -257,34 +260,41 @@ double agreement(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b,
     return a.empty() ? 1.0 : double(same) / double(a.size());
 }
 
+// The share of lane-steps that do work when the rays `order` lists run 8 at a time as the lanes
+// of one vector (lavapipe's 8 consecutive invocations), whose loop runs until its slowest lane
+// is done: 1 when no lane idles.
+double laneEfficiency(const std::vector<uint32_t>& steps, const std::vector<size_t>& order) {
+    double lane = 0.0, vector = 0.0;
+    for (size_t first = 0; first < order.size(); first += 8) {
+        uint32_t longest = 0;
+        for (size_t i = first; i < std::min(first + 8, order.size()); ++i) {
+            lane += steps[order[i]];
+            longest = std::max(longest, steps[order[i]]);
+        }
+        vector += 8.0 * longest;
+    }
+    return vector > 0.0 ? lane / vector : 1.0;
+}
+
 // What the kernel's traversal loop does per ray (trace_rays_steps.comp): interior-node and
-// triangle steps, and the share of lane-steps that do work when lavapipe runs 8 consecutive
-// invocations as one vector, whose loop runs until its slowest lane is done (1 = no lane idles).
+// triangle steps, on average, and per ray in all.
 struct StepCounts {
-    double interior = 0.0, triangle = 0.0, simdEfficiency = 0.0;
-    std::vector<uint32_t> steps;  // per ray
+    double interior = 0.0, triangle = 0.0;
+    std::vector<uint32_t> steps;
 };
 StepCounts countSteps(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
                       const std::vector<gpu::BvhQuery>& rays, bool anyHit) {
     const Timing t = traceGpu(context, layout, scene, rays, anyHit, 1, 1, "bench/trace_rays_steps");
     StepCounts c;
-    double laneSteps = 0.0, vectorSteps = 0.0;
-    for (size_t first = 0; first < rays.size(); first += 8) {
-        uint32_t longest = 0;
-        for (size_t i = first; i < std::min(first + 8, rays.size()); ++i) {
-            const uint32_t interior = std::bit_cast<uint32_t>(t.hits[i].b1);
-            const uint32_t triangle = std::bit_cast<uint32_t>(t.hits[i].b2);
-            c.interior += interior;
-            c.triangle += triangle;
-            longest = std::max(longest, interior + triangle);
-            c.steps.push_back(interior + triangle);
-        }
-        vectorSteps += 8.0 * longest;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const uint32_t interior = std::bit_cast<uint32_t>(t.hits[i].b1);
+        const uint32_t triangle = std::bit_cast<uint32_t>(t.hits[i].b2);
+        c.interior += interior;
+        c.triangle += triangle;
+        c.steps.push_back(interior + triangle);
     }
-    laneSteps = c.interior + c.triangle;
     c.interior /= double(std::max<size_t>(1, rays.size()));
     c.triangle /= double(std::max<size_t>(1, rays.size()));
-    c.simdEfficiency = vectorSteps > 0.0 ? laneSteps / vectorSteps : 1.0;
     return c;
 }
 
@@ -296,11 +306,10 @@ struct RaySetResult {
     double agreeCpu = 1.0, agreeEmbree = 1.0;
 };
 
-uint32_t raysPerInvocation = 1;  // --rays-per-invocation
-
 RaySetResult measure(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& gpuScene,
                      [[maybe_unused]] const void* embree, const std::vector<gpu::BvhQuery>& rays,
-                     bool anyHit, [[maybe_unused]] bool coherent, int repeats, Timing& cpu) {
+                     bool anyHit, [[maybe_unused]] bool coherent, int repeats,
+                     uint32_t raysPerInvocation, Timing& cpu) {
     auto mrays = [&](double s) { return s > 0.0 ? double(rays.size()) / s * 1e-6 : 0.0; };
     RaySetResult r;
     cpu = traceCpu(gpuScene.bvh(), rays, anyHit, repeats);
@@ -336,6 +345,7 @@ int main(int argc, char** argv) {
         cli::Args args(argc, argv, 1);
         int width = 256, height = 256, repeats = 3;
         bool cpuTime = false, json = false, steps = false;
+        uint32_t raysPerInvocation = 1;
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
         if (const char* lp = std::getenv("LP_NUM_THREADS"); lp && std::atoi(lp) > 0) threads = unsigned(std::atoi(lp));
         std::string device;
@@ -390,11 +400,14 @@ int main(int argc, char** argv) {
             std::mt19937 rng(7);
             auto primary = primaryRays(gpuScene.info(), rng);
             Timing cpuPrimary, cpuBounce, cpuShadow;
-            RaySetResult p = measure(context, layout, gpuScene, embree, primary, false, true, repeats, cpuPrimary);
+            RaySetResult p = measure(context, layout, gpuScene, embree, primary, false, true, repeats,
+                                     raysPerInvocation, cpuPrimary);
             auto bounce = bounceRays(scene, primary, cpuPrimary.hits, rng);
-            RaySetResult b = measure(context, layout, gpuScene, embree, bounce, false, false, repeats, cpuBounce);
+            RaySetResult b = measure(context, layout, gpuScene, embree, bounce, false, false, repeats,
+                                     raysPerInvocation, cpuBounce);
             auto shadow = shadowRays(scene, bounce, cpuBounce.hits, rng);
-            RaySetResult sh = measure(context, layout, gpuScene, embree, shadow, true, false, repeats, cpuShadow);
+            RaySetResult sh = measure(context, layout, gpuScene, embree, shadow, true, false, repeats,
+                                      raysPerInvocation, cpuShadow);
 
             RenderSettings s;
             s.method = "pt";
@@ -454,19 +467,11 @@ int main(int argc, char** argv) {
                     // most (it also gives up primary rays' coherence).
                     std::vector<size_t> order(sets[k]->size());
                     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+                    const double efficiency = laneEfficiency(c.steps, order);
                     // Sorted within windows of 256 rays, which keeps most of the rays' locality.
                     for (size_t w = 0; w < order.size(); w += 256)
                         std::stable_sort(order.begin() + w, order.begin() + std::min(w + 256, order.size()),
                                          [&](size_t a, size_t b) { return c.steps[a] < c.steps[b]; });
-                    double lane = 0.0, vector = 0.0;
-                    for (size_t w = 0; w < order.size(); w += 8) {
-                        uint32_t longest = 0;
-                        for (size_t i = w; i < std::min(w + 8, order.size()); ++i) {
-                            lane += c.steps[order[i]];
-                            longest = std::max(longest, c.steps[order[i]]);
-                        }
-                        vector += 8.0 * longest;
-                    }
                     std::vector<gpu::BvhQuery> sorted;
                     for (size_t i : order) sorted.push_back((*sets[k])[i]);
                     const Timing t = traceGpu(context, layout, gpuScene, sorted, k == 2, repeats, 1);
@@ -475,8 +480,8 @@ int main(int argc, char** argv) {
                     if (haveEmbree) std::snprintf(ratio, sizeof ratio, "%.2fx", full / rows[k].r.embree);
                     std::printf("%-20s %9s | %-8s steps/ray %.1f interior + %.1f triangle; 8-lane "
                                 "efficiency %.2f; sorted by steps: %.2f, %.2f Mrays/s (%s Embree)\n", "", "",
-                                rows[k].name, c.interior, c.triangle, c.simdEfficiency,
-                                vector > 0.0 ? lane / vector : 1.0, full, ratio);
+                                rows[k].name, c.interior, c.triangle, efficiency,
+                                laneEfficiency(c.steps, order), full, ratio);
                 }
             }
         }

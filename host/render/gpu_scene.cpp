@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "scene/environment.h"
+#include "scene/light_choice.h"
 
 namespace pmcr {
 
@@ -40,64 +41,17 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     // The group of all emitters is buildEmitters' table, so its power is the emitters' total.
     m_info.totalEmitterPower = m_lightGroups.allEmitters.power;
 
-    // The environment and the punctual lights. Light sampling picks the environment, a punctual
-    // light or an emitter triangle in proportion to their power (lights.glsl).
+    // The environment and the punctual lights, and how light sampling picks among all lights.
     const Environment& env = scene.environment;
     m_info.envKind = env.kind;
     m_info.envRadiance = env.kind == gpu::ENV_CONSTANT ? env.radiance : glm::vec3(env.scale);
     m_info.envRotation = env.rotation;
     m_info.envWidth = uint32_t(env.image.width);
     m_info.envHeight = uint32_t(env.image.height);
-    // Power alone can starve a light: a directional light's power grows with the scene's area
-    // (pi R^2 E), so in a large scene a nearby point light would be picked once in thousands of
-    // samples. So each choice (between the kinds present, and between punctual lights) takes
-    // half its probability from power and half uniformly: still unbiased (every light keeps a
-    // positive probability, which the kernels divide by), and no light below a quarter of its
-    // uniform share. Among emitter triangles the choice stays by power, as before.
-    auto defensive = [](std::vector<double> power) {
-        double total = 0.0;
-        for (double p : power) total += p;
-        for (double& p : power) p = 0.5 * (total > 0.0 ? p / total : 0.0) + 0.5 / double(power.size());
-        return power;
-    };
     m_info.punctualCount = uint32_t(scene.punctualLights.size());
-    std::vector<double> punctualPower;
-    for (const gpu::PunctualLight& light : scene.punctualLights)
-        punctualPower.push_back(punctualLightPower(light, m_info.sceneRadius));
-    std::vector<gpu::Emitter> punctualAlias(punctualPower.size());
-    double totalPunctual = 0.0;
-    for (double p : punctualPower) totalPunctual += p;
-    if (!punctualPower.empty()) buildAliasTable(defensive(punctualPower), punctualAlias.data());
-    for (size_t i = 0; i < punctualAlias.size(); ++i) punctualAlias[i].triangle = uint32_t(i);
-    m_info.envSelectPmf = 0.0f;
-    m_info.punctualSelectPmf = 0.0f;
-    if (env.kind != gpu::ENV_NONE || !scene.punctualLights.empty()) {
-        // The kinds present: environment, punctual lights, emitter triangles.
-        std::vector<double> kindPower;
-        std::vector<int> kind;
-        if (env.kind != gpu::ENV_NONE) {
-            kindPower.push_back(environmentPower(env, m_info.sceneRadius));
-            kind.push_back(0);
-        }
-        if (!scene.punctualLights.empty()) {
-            kindPower.push_back(totalPunctual);
-            kind.push_back(1);
-        }
-        if (m_info.totalEmitterPower > 0.0f) {
-            kindPower.push_back(m_info.totalEmitterPower);
-            kind.push_back(2);
-        }
-        const std::vector<double> pmf = defensive(kindPower);
-        for (size_t i = 0; i < kind.size(); ++i) {
-            if (kind[i] == 0) m_info.envSelectPmf = float(pmf[i]);
-            if (kind[i] == 1) m_info.punctualSelectPmf = float(pmf[i]);
-        }
-        // Without emitters nothing is left for them (rounding must not leave a sliver).
-        if (!(m_info.totalEmitterPower > 0.0f)) {
-            if (scene.punctualLights.empty()) m_info.envSelectPmf = 1.0f;
-            else m_info.punctualSelectPmf = 1.0f - m_info.envSelectPmf;
-        }
-    }
+    const LightChoice choice = chooseLights(scene, m_info.totalEmitterPower, m_info.sceneRadius);
+    m_info.envSelectPmf = choice.envPmf;
+    m_info.punctualSelectPmf = choice.punctualPmf;
     std::vector<glm::vec4> envTexels;
     for (int y = 0; y < env.image.height; ++y)
         for (int x = 0; x < env.image.width; ++x) envTexels.emplace_back(env.image.at(x, y), 0.0f);
@@ -135,7 +89,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
                                          "environment texels");
         m_envAlias = uintTexels(environmentAliasTable(env), "environment alias table");
         m_punctualLights = uintTexels(scene.punctualLights, "punctual light buffer");
-        m_punctualAlias = uintTexels(punctualAlias, "punctual light alias table");
+        m_punctualAlias = uintTexels(choice.punctualTable, "punctual light alias table");
     } catch (const Error& e) {
         fail(scene.path.string(), std::string("scene too large for the device: ") + e.what());
     }

@@ -46,8 +46,17 @@ uvec2 envPixel(vec3 l) {
                uvec2(sceneInfo.envWidth - 1u, sceneInfo.envHeight - 1u));
 }
 
+uint envPixelIndex(uvec2 p) { return p.y * sceneInfo.envWidth + p.x; }
+
 vec3 envTexel(uvec2 p) {
-    return texelFetch(envTexels, int(p.y * sceneInfo.envWidth + p.x)).rgb * sceneInfo.envRadiance;
+    return texelFetch(envTexels, int(envPixelIndex(p))).rgb * sceneInfo.envRadiance;
+}
+
+// Solid-angle density of a direction at sin(theta) in pixel `pixel` (the header's formula).
+float envPixelPdf(uint pixel, float sinTheta) {
+    if (!(sinTheta > 0.0)) return 0.0;
+    float pmf = uintBitsToFloat(texelFetch(envAliasTexels, int(pixel)).y);
+    return pmf * float(sceneInfo.envWidth) * float(sceneInfo.envHeight) / (2.0 * PI * PI * sinTheta);
 }
 
 // Radiance arriving along -d, i.e. seen looking in direction d.
@@ -60,12 +69,7 @@ vec3 envRadiance(vec3 d) {
 float envPdf(vec3 d) {
     if (sceneInfo.envKind == ENV_CONSTANT) return 0.25 * INV_PI;
     vec3 l = envToLocal(d);
-    float sinTheta = sqrt(max(0.0, 1.0 - l.y * l.y));
-    if (!(sinTheta > 0.0)) return 0.0;
-    uvec2 p = envPixel(l);
-    float pmf = uintBitsToFloat(texelFetch(envAliasTexels, int(p.y * sceneInfo.envWidth + p.x)).y);
-    return pmf * float(sceneInfo.envWidth) * float(sceneInfo.envHeight) /
-           (2.0 * PI * PI * sinTheta);
+    return envPixelPdf(envPixelIndex(envPixel(l)), sqrt(max(0.0, 1.0 - l.y * l.y)));
 }
 
 struct EnvSample {
@@ -91,8 +95,7 @@ EnvSample envSample(float uPixel, vec2 uPoint) {
     float theta = uv.y * PI;
     float sinTheta = sin(theta);
     e.wi = envToWorld(vec3(sinTheta * sin(phi), cos(theta), -sinTheta * cos(phi)));
-    float pmf = uintBitsToFloat(texelFetch(envAliasTexels, int(pixel)).y);
-    e.pdf = sinTheta > 0.0 ? pmf * float(n) / (2.0 * PI * PI * sinTheta) : 0.0;
+    e.pdf = envPixelPdf(pixel, sinTheta);
     e.Le = envTexel(p);
     return e;
 }

@@ -22,8 +22,8 @@ float emitterPowerPerArea(uint tri) {
 float emitterPower(uint tri) { return triangleArea(tri) * emitterPowerPerArea(tri); }
 
 // Light sampling picks the environment with probability envSelectPmf (u in [0, envSelectPmf)),
-// a punctual light with punctualSelectPmf (the next interval), else an emitter triangle: each in
-// proportion to power (host/render/gpu_scene.cpp).
+// a punctual light with punctualSelectPmf (the next interval), else an emitter triangle
+// (probabilities from chooseLights, host/scene/scene.h).
 bool hasPunctualLights() {
 #ifdef PMCR_OTHER_LIGHTS  // see hasEnvironment
     return sceneInfo.punctualCount > 0u;
@@ -50,8 +50,9 @@ PunctualLight punctualLightAt(uint i) {
     return PunctualLight(uintBitsToFloat(a.xyz), a.w, b.xyz, b.w, c.xyz, c.w);
 }
 
-// A spot light's falloff at cosTheta off its axis, as the glTF spec suggests
-// (KHR_lights_punctual): 1 inside the inner cone, 0 outside the outer, smooth in between.
+// A spot light's falloff at cosTheta off its axis, as the KHR_lights_punctual specification's
+// implementation note gives it (its lightAngleScale = 1 / max(0.001, cos inner - cos outer),
+// squared): 1 inside the inner cone, 0 outside the outer, smooth in between.
 float spotFalloff(PunctualLight l, float cosTheta) {
     float t = clamp((cosTheta - l.cosOuter) / max(1e-3, l.cosInner - l.cosOuter), 0.0, 1.0);
     return t * t;

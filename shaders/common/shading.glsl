@@ -76,24 +76,22 @@ struct ShadowRay {
     float tMax;
 };
 
-ShadowRay shadowRay(ShadingPoint sh, SurfacePoint light) {
-    vec3 toLight = light.position - sh.surface.position;
+// The segment from `origin` to just short of `target`.
+ShadowRay shadowSegment(vec3 origin, vec3 target) {
     ShadowRay r;
-    r.origin = spawnOrigin(sh, toLight);
-    vec3 target = offsetRayOrigin(light.position,
-                                  dot(toLight, light.normal) < 0.0 ? light.normal : -light.normal);
-    vec3 d = target - r.origin;
+    r.origin = origin;
+    vec3 d = target - origin;
     float dist = length(d);
     r.dir = d / dist;
     r.tMax = dist * (1.0 - 1e-4);
     return r;
 }
 
-// Unoccluded between a shading point and a point on a light.
-bool visible(ShadingPoint sh, SurfacePoint light, inout uint rays) {
-    ShadowRay r = shadowRay(sh, light);
-    rays += 1u;
-    return !traceAny(r.origin, r.dir, r.tMax);
+ShadowRay shadowRay(ShadingPoint sh, SurfacePoint light) {
+    vec3 toLight = light.position - sh.surface.position;
+    vec3 target = offsetRayOrigin(light.position,
+                                  dot(toLight, light.normal) < 0.0 ? light.normal : -light.normal);
+    return shadowSegment(spawnOrigin(sh, toLight), target);
 }
 
 #endif

@@ -178,12 +178,12 @@ struct SceneInfo {
     float totalEmitterPower;
     uint lightCount;       // PMC-HI's lights (LightGroup[]); the group of all emitters follows them
     uint punctualCount;    // PunctualLight[] (KHR_lights_punctual)
-    float punctualSelectPmf;  // probability that light sampling picks a punctual light (by power)
+    float punctualSelectPmf;  // probability that light sampling picks a punctual light (chooseLights)
     uint pad2;
     // The environment light (--env; shaders/common/environment.glsl).
     vec3 envRadiance;      // ENV_CONSTANT: the radiance; ENV_IMAGE: the scale of the image's texels
     uint envKind;          // ENV_*
-    float envSelectPmf;    // probability that light sampling picks the environment (by power)
+    float envSelectPmf;    // probability that light sampling picks the environment (chooseLights)
     float envRotation;     // radians about +y (--env-rotate)
     uint envWidth;         // ENV_IMAGE: the equirectangular image's size
     uint envHeight;
@@ -206,6 +206,9 @@ struct PunctualLight {
 };
 PMCR_CHECK_SIZE(PunctualLight, 48);
 PMCR_CONST uint PUNCTUAL_LIGHT_TEXELS = 3;
+#ifdef __cplusplus
+static_assert(sizeof(PunctualLight) == 16 * PUNCTUAL_LIGHT_TEXELS, "read as whole 16-byte texels");
+#endif
 
 // The environment light: radiance arriving from infinitely far in every direction.
 PMCR_CONST uint ENV_NONE = 0;

@@ -1,4 +1,5 @@
-// Unidirectional path tracing with next-event estimation on area lights, combined with BSDF
+// Unidirectional path tracing with next-event estimation (emitters, punctual lights, the
+// environment), combined with BSDF
 // sampling by multiple importance sampling (Veach 1997 ch. 9, power heuristic), and Russian
 // roulette after rrDepth bounces (pbrt-v4 PathIntegrator). The baseline every method is
 // compared with, and the sampler that seeds ERPT and PMC-ER.
@@ -71,18 +72,16 @@ struct LightSampleFrom {
     float pdf;          // solid-angle density, light selection included; 0: no sample
     ShadowRay ray;      // the segment that must be clear
     LightSample area;   // the emitter point (when from an emitter)
-    bool fromEnvironment;
     bool delta;         // a punctual light: pdf is its selection probability, no MIS
 };
 
-// Next-event estimation's light sample, the light picked by uLight in proportion to power
-// (lights.glsl): the environment (a direction by envSample), a punctual light (its one
+// Next-event estimation's light sample, the light picked by uLight (with the probabilities
+// host/render/gpu_scene.cpp sets, lights.glsl): the environment (a direction by envSample), a punctual light (its one
 // direction), or an emitter triangle and a uniform point on it.
 LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint) {
     LightSampleFrom ls;
     ls.delta = false;
-    ls.fromEnvironment = hasEnvironment() && uLight < sceneInfo.envSelectPmf;
-    if (ls.fromEnvironment) {
+    if (hasEnvironment() && uLight < sceneInfo.envSelectPmf) {
         EnvSample e = envSample(min(uLight / sceneInfo.envSelectPmf, ONE_MINUS_EPSILON), uLightPoint);
         ls.wi = e.wi;
         ls.Le = e.Le;
@@ -114,10 +113,7 @@ LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint)
             ls.wi = toLight * inversesqrt(dist2);
             ls.Le = l.intensity / dist2;
             if (l.type == PUNCTUAL_SPOT) ls.Le *= spotFalloff(l, dot(-ls.wi, l.direction));
-            vec3 origin = spawnOrigin(sh, ls.wi);
-            vec3 d = l.position - origin;
-            float dist = length(d);
-            ls.ray = ShadowRay(origin, d / dist, dist * (1.0 - 1e-4));
+            ls.ray = shadowSegment(spawnOrigin(sh, ls.wi), l.position);
         }
         return ls;
     }
