@@ -32,6 +32,7 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
                    int camera, int width, int height)
     : m_scene(scene) {
     m_info = makeSceneInfo(scene, camera, width, height);
+    m_features = sceneFeatures(scene);
     auto start = std::chrono::steady_clock::now();
     m_bvh = Bvh::build(scene);
     m_bvhSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -90,6 +91,16 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
         m_envAlias = uintTexels(environmentAliasTable(env), "environment alias table");
         m_punctualLights = uintTexels(scene.punctualLights, "punctual light buffer");
         m_punctualAlias = uintTexels(choice.punctualTable, "punctual light alias table");
+        // Per-vertex tangents and per-triangle emitter luminance (four to a texel), or one
+        // placeholder texel for scenes that do not use them.
+        std::vector<glm::vec4> tangents = scene.tangents;
+        if (tangents.empty()) tangents.emplace_back(0.0f);
+        m_tangents = vk::Buffer::texels(context, tangents, VK_FORMAT_R32G32B32A32_SFLOAT, "tangents");
+        std::vector<glm::vec4> emission((scene.triangleEmission.size() + 3) / 4 + 1, glm::vec4(0.0f));
+        for (size_t i = 0; i < scene.triangleEmission.size(); ++i)
+            emission[i / 4][int(i % 4)] = scene.triangleEmission[i];
+        m_triangleEmission = vk::Buffer::texels(context, emission, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                "triangle emission");
     } catch (const Error& e) {
         fail(scene.path.string(), std::string("scene too large for the device: ") + e.what());
     }
@@ -109,6 +120,8 @@ GpuScene::GpuScene(vk::Context& context, const vk::PipelineLayout& layout, const
     m_set->bind(gpu::BINDING_ENV_ALIAS, m_envAlias);
     m_set->bind(gpu::BINDING_PUNCTUAL_LIGHTS, m_punctualLights);
     m_set->bind(gpu::BINDING_PUNCTUAL_ALIAS, m_punctualAlias);
+    m_set->bind(gpu::BINDING_TANGENTS, m_tangents);
+    m_set->bind(gpu::BINDING_TRIANGLE_EMISSION, m_triangleEmission);
 }
 
 }  // namespace pmcr

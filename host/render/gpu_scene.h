@@ -25,6 +25,8 @@ public:
     const Bvh& bvh() const { return m_bvh; }
     const LightGroupTable& lightGroups() const { return m_lightGroups; }
     double bvhBuildSeconds() const { return m_bvhSeconds; }
+    // gpu::SCENE_FEATURE_* bits the kernels are specialized for (sceneFeatures).
+    uint32_t features() const { return m_features; }
 
 private:
     const Scene& m_scene;
@@ -32,6 +34,7 @@ private:
     LightGroupTable m_lightGroups;
     gpu::SceneInfo m_info{};
     double m_bvhSeconds = 0.0;
+    uint32_t m_features = 0;
     vk::Buffer m_infoBuffer;
     vk::Buffer m_vertices;
     vk::Buffer m_triangles;
@@ -46,6 +49,8 @@ private:
     vk::Buffer m_envAlias;
     vk::Buffer m_punctualLights;
     vk::Buffer m_punctualAlias;
+    vk::Buffer m_tangents;
+    vk::Buffer m_triangleEmission;
     std::unique_ptr<vk::DescriptorSet> m_set;
 };
 

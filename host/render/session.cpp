@@ -24,7 +24,7 @@ RenderSession::RenderSession(vk::Context& context, const Scene& scene,
 }
 
 const vk::Kernel& RenderSession::kernel(const std::string& name) {
-    const vk::Kernel& k = m_context.kernel(name);
+    const vk::Kernel& k = m_context.kernel(name, m_scene->features());
     if (std::find(m_kernels.begin(), m_kernels.end(), &k) == m_kernels.end()) m_kernels.push_back(&k);
     return k;
 }

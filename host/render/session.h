@@ -45,7 +45,8 @@ public:
 
     vk::Context& context() { return m_context; }
     const vk::PipelineLayout& layout() const { return m_context.layout(); }
-    // The kernel `name`; the session warms it up when the clock starts (startClock).
+    // The kernel `name`, specialized for the scene's features (GpuScene::features); the session
+    // warms it up when the clock starts (startClock).
     const vk::Kernel& kernel(const std::string& name);
     const GpuScene& scene() const { return *m_scene; }
     const RenderSettings& settings() const { return m_settings; }

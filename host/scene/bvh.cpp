@@ -375,7 +375,18 @@ std::vector<glm::uvec4> Bvh::deviceTexels() const {
 }
 
 Bvh Bvh::build(const Scene& scene) {
-    return build(scene.vertices, scene.triangles, scene.path.string());
+    Bvh bvh = build(scene.vertices, scene.triangles, scene.path.string());
+    // Alpha-masked triangles carry their mask in the unused w components (shared/scene_types.h
+    // IsectTriangle), so the traversal tests it without reading the material.
+    for (gpu::IsectTriangle& t : bvh.m_triangles) {
+        const uint32_t index = std::bit_cast<uint32_t>(t.v0.w);
+        const gpu::Material& m = scene.materials[scene.triangles[index].material];
+        if (m.alphaCutoff > 0.0f && m.baseColorTexture >= 0) {
+            t.e1.w = std::bit_cast<float>(uint32_t(m.baseColorTexture) + 1u);
+            t.e2.w = m.alphaCutoff;
+        }
+    }
+    return bvh;
 }
 
 // Ordered traversal (near child first) of adjacent child pairs: each step tests both child

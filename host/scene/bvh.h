@@ -77,6 +77,8 @@ public:
     static Bvh build(std::span<const gpu::Vertex> vertices,
                      std::span<const gpu::Triangle> triangles, const std::string& source,
                      uint32_t maxDepth = gpu::BVH_MAX_DEPTH);
+    // The scene's BVH, with alpha-masked triangles marked (IsectTriangle). The CPU traversal
+    // below ignores the marks: it treats every triangle as opaque.
     static Bvh build(const Scene& scene);
 
     const std::vector<gpu::BvhNode>& nodes() const { return m_nodes; }

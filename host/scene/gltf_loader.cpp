@@ -29,6 +29,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/tangents.h"
 
 namespace pmcr {
 
@@ -47,7 +48,8 @@ constexpr size_t kMaxMessage = 300;
 const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                     "KHR_materials_transmission",
                                                     "KHR_materials_ior", "KHR_materials_volume",
-                                                    "KHR_lights_punctual", "KHR_texture_transform"};
+                                                    "KHR_lights_punctual", "KHR_texture_transform",
+                                                    "KHR_xmp"};  // metadata (authorship, licence)
 
 // tinygltf's (possibly multi-line, possibly data-URI-sized) messages as one short line.
 std::string oneLine(const std::string& text) {
@@ -203,6 +205,11 @@ struct AccessorData {
         std::memcpy(v, element(i), sizeof(v));
         return {v[0], v[1], v[2]};
     }
+    glm::vec4 vec4(size_t i) const {
+        float v[4];
+        std::memcpy(v, element(i), sizeof(v));
+        return {v[0], v[1], v[2], v[3]};
+    }
     glm::vec2 texcoord(size_t i) const {
         const uint8_t* p = element(i);
         if (componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
@@ -258,8 +265,7 @@ private:
 
     void convertMaterials();
     gpu::Material convertMaterial(int index);
-    int convertTexture(const tinygltf::TextureInfo& info, const std::string& label,
-                       const std::string& material, const char* what);
+    int convertTexture(const tinygltf::TextureInfo& info, const std::string& label, const char* what);
     Texture decodeImage(int index);
     uint32_t defaultMaterial();
 
@@ -288,6 +294,7 @@ private:
     std::vector<int> m_textureSlot;  // glTF texture -> Scene::textures index, -1 if unused
     std::vector<int> m_texCoordSet;  // per material: TEXCOORD_n its textures read
     std::vector<glm::dmat3> m_uvTransform;  // per material: KHR_texture_transform of those uvs
+    std::vector<bool> m_invisible;  // per material: cut away entirely by its alpha (no texture)
     int m_defaultMaterial = -1;
 };
 
@@ -540,6 +547,7 @@ void GltfLoader::convertMaterials() {
     m_textureSlot.assign(m_model.textures.size(), -1);
     m_texCoordSet.assign(m_model.materials.size(), -1);
     m_uvTransform.assign(m_model.materials.size(), glm::dmat3(1.0));
+    m_invisible.assign(m_model.materials.size(), false);
     for (int i = 0; i < int(m_model.materials.size()); ++i) {
         m_scene.materials.push_back(convertMaterial(i));
         const std::string& name = m_model.materials[size_t(i)].name;
@@ -599,7 +607,7 @@ gpu::Material GltfLoader::convertMaterial(int index) {
     m.metallic = number(pbr.metallicFactor, "metallicFactor", 0, 1);
     m.roughness = number(pbr.roughnessFactor, "roughnessFactor", 0, 1);
     m.baseColorTexture = -1;
-    uint32_t mrTexture = 0;  // metallicRoughnessTexture + 1
+    m.normalScale = 1.0f;
     // The texture coordinates a texture reads: its TEXCOORD set and KHR_texture_transform, which
     // may override the set and maps uv to T R S uv (the extension's matrix: offset, rotation
     // counter-clockwise in radians, scale). Both are baked into the material's vertex uvs.
@@ -634,34 +642,39 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         out.second = T * R * S;
         return out;
     };
+    // One texture coordinate mapping per material (the vertices carry one uv): the first
+    // texture sets it; a later one read through another set or transform is left out with a
+    // warning. Returns the texture's index in Scene::textures, or -1 when left out.
     bool mapped = false;
-    if (pbr.baseColorTexture.index != -1) {
-        m.baseColorTexture = convertTexture(pbr.baseColorTexture, label, name, "baseColorTexture");
-        std::tie(m_texCoordSet[size_t(index)], m_uvTransform[size_t(index)]) =
-            mapping(pbr.baseColorTexture, "baseColorTexture");
+    auto texture = [&](const tinygltf::TextureInfo& info, const char* what) {
+        const auto [set, transform] = mapping(info, what);
+        if (mapped && (m_texCoordSet[size_t(index)] != set || m_uvTransform[size_t(index)] != transform)) {
+            ignoreFor(std::string(what) + " with another TEXCOORD set or texture transform than the "
+                      "material's other textures is ignored",
+                      name);
+            return -1;
+        }
+        const int slot = convertTexture(info, label, what);
+        m_texCoordSet[size_t(index)] = set;
+        m_uvTransform[size_t(index)] = transform;
         mapped = true;
+        return slot;
+    };
+    if (pbr.baseColorTexture.index != -1) {
+        m.baseColorTexture = texture(pbr.baseColorTexture, "baseColorTexture");
     }
     if (pbr.metallicRoughnessTexture.index != -1) {
-        // One texture coordinate mapping per material (the vertices carry one uv): a
-        // metallicRoughness texture read through another set or transform than the base colour
-        // is left out with a warning.
-        const auto [set, transform] = mapping(pbr.metallicRoughnessTexture, "metallicRoughnessTexture");
-        if (mapped && (m_texCoordSet[size_t(index)] != set || m_uvTransform[size_t(index)] != transform)) {
-            ignoreFor("metallicRoughnessTexture with another TEXCOORD set or texture transform than "
-                      "baseColorTexture is ignored",
-                      name);
-        } else {
-            const int texture =
-                convertTexture(pbr.metallicRoughnessTexture, label, name, "metallicRoughnessTexture");
-            if (uint32_t(texture) + 1 >= (1u << (32 - gpu::MATERIAL_MR_TEXTURE_SHIFT)))
-                error(label + ": too many textures");
-            m_texCoordSet[size_t(index)] = set;
-            m_uvTransform[size_t(index)] = transform;
-            mrTexture = uint32_t(texture + 1);
-        }
+        m.metallicRoughnessTexture = uint32_t(texture(pbr.metallicRoughnessTexture, "metallicRoughnessTexture") + 1);
     }
-    if (src.normalTexture.index != -1)
-        ignoreFor("normalTexture is ignored", name);
+    if (src.normalTexture.index != -1) {
+        // tinygltf's NormalTextureInfo is a TextureInfo with a scale.
+        tinygltf::TextureInfo info;
+        info.index = src.normalTexture.index;
+        info.texCoord = src.normalTexture.texCoord;
+        info.extensions = src.normalTexture.extensions;
+        m.normalTexture = uint32_t(texture(info, "normalTexture") + 1);
+        m.normalScale = number(src.normalTexture.scale, "normalTexture.scale", -1e6, 1e6);
+    }
     if (src.occlusionTexture.index != -1) {
         // Baked ambient occlusion darkens indirect light a rasterizer cannot trace; a path
         // tracer computes that occlusion itself, so applying it would count it twice.
@@ -670,10 +683,27 @@ gpu::Material GltfLoader::convertMaterial(int index) {
                   name);
     }
     if (src.emissiveTexture.index != -1) {
-        ignoreFor("emissiveTexture is ignored (emission is emissiveFactor only)", name);
+        m.emissiveTexture = uint32_t(texture(src.emissiveTexture, "emissiveTexture") + 1);
     }
+    // alphaMode (glTF 2.0 sec. 3.9.5): MASK cuts the surface where alpha = baseColorFactor.a *
+    // the base colour texture's alpha is below alphaCutoff. BLEND (partial coverage, a
+    // rasterizer's compositing) is rendered as MASK with the default cutoff.
     if (src.alphaMode == "MASK" || src.alphaMode == "BLEND") {
-        ignoreFor("alphaMode MASK/BLEND is ignored (rendered opaque)", name);
+        double cutoff = 0.5;
+        if (src.alphaMode == "MASK") {
+            cutoff = number(src.alphaCutoff, "alphaCutoff", 0, HUGE_VAL);
+        } else {
+            ignoreFor("alphaMode BLEND is rendered as MASK with alphaCutoff 0.5 (no partial "
+                      "coverage)",
+                      name);
+        }
+        const double alpha = number(pbr.baseColorFactor[3], "baseColorFactor", 0, 1);
+        if (m.baseColorTexture >= 0 && cutoff > 0.0) {
+            // Compared with the texture's alpha alone; above 1 everything is cut.
+            m.alphaCutoff = alpha > 0.0 ? float(std::min(cutoff / alpha, 2.0)) : 2.0f;
+        } else if (alpha < cutoff) {
+            m_invisible[size_t(index)] = true;
+        }
     } else if (src.alphaMode != "OPAQUE") {
         error(label + ": unknown alphaMode " + inQuotes(src.alphaMode));
     }
@@ -709,21 +739,26 @@ gpu::Material GltfLoader::convertMaterial(int index) {
             member(*ext, "KHR_materials_volume", "attenuationDistance", HUGE_VAL);
         if (!(distance > 0))
             error(label + ": attenuationDistance must be positive");
-        bool tinted = false;
+        glm::dvec3 color(1.0);
         if (ext->Has("attenuationColor")) {
-            const tinygltf::Value& color = ext->Get("attenuationColor");
-            if (!color.IsArray() || color.ArrayLen() != 3) {
+            const tinygltf::Value& value = ext->Get("attenuationColor");
+            if (!value.IsArray() || value.ArrayLen() != 3) {
                 error(label + ": KHR_materials_volume.attenuationColor needs 3 numbers");
             }
             for (int c = 0; c < 3; ++c) {
-                const tinygltf::Value& v = color.Get(c);
+                const tinygltf::Value& v = value.Get(c);
                 if (!v.IsNumber())
                     error(label + ": attenuationColor must hold numbers");
-                tinted |= number(v.GetNumberAsDouble(), "attenuationColor", 0, 1) != 1.0f;
+                color[c] = number(v.GetNumberAsDouble(), "attenuationColor", 0, 1);
             }
         }
-        if (std::isfinite(distance) || tinted) {
-            ignoreFor("KHR_materials_volume attenuation (absorption) is ignored", name);
+        // Beer-Lambert: the colour white light takes after travelling attenuationDistance inside,
+        // so sigma_a = -ln(color) / distance (the extension's definition). A colour of 0 absorbs
+        // everything within a micron of the surface (sigma_a capped at 1e6 per unit).
+        if (std::isfinite(distance)) {
+            for (int c = 0; c < 3; ++c) {
+                m.absorption[c] = float(std::min(-std::log(std::max(color[c], 1e-300)) / distance, 1e6));
+            }
         }
     }
     if (m.transmission > 0.0f && thickness == 0.0) {
@@ -732,13 +767,12 @@ gpu::Material GltfLoader::convertMaterial(int index) {
             "pmcr renders it as a solid refractive interface",
             name);
     }
-    m.flags = (src.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u) |
-              (mrTexture << gpu::MATERIAL_MR_TEXTURE_SHIFT);
+    m.flags = src.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
     return m;
 }
 
 int GltfLoader::convertTexture(const tinygltf::TextureInfo& info, const std::string& label,
-                               const std::string& material, const char* what) {
+                               const char* what) {
     const int index = info.index;
     if (index < 0 || size_t(index) >= m_model.textures.size()) {
         error(label + ": " + what + " index " + std::to_string(index) + " out of range (" +
@@ -1230,7 +1264,9 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
         material = uint32_t(primitive.material);
         texCoordSet = m_texCoordSet[size_t(primitive.material)];
         uvTransform = m_uvTransform[size_t(primitive.material)];
+        if (m_invisible[size_t(primitive.material)]) return;  // cut away by its alpha everywhere
     }
+    const bool normalMapped = m_scene.materials[material].normalTexture != 0;
 
     auto attribute = [&](const std::string& name) -> const int* {
         auto it = primitive.attributes.find(name);
@@ -1287,6 +1323,23 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
         if (texcoords.count != vertexCount) {
             error("accessor " + std::to_string(texcoordIndex) + " (" + role + ") has " +
                   std::to_string(texcoords.count) + " elements, POSITION has " +
+                  std::to_string(vertexCount));
+        }
+    }
+
+    AccessorData tangents;
+    const bool hasTangents = normalMapped && attribute("TANGENT") != nullptr;
+    if (hasTangents) {
+        const int tangentIndex = *attribute("TANGENT");
+        const std::string role = "TANGENT of " + mesh;
+        tangents = readAccessor(tangentIndex, role);
+        const tinygltf::Accessor& a = m_model.accessors[size_t(tangentIndex)];
+        if (a.type != TINYGLTF_TYPE_VEC4 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            error("accessor " + std::to_string(tangentIndex) + " (" + role + ") must be float VEC4");
+        }
+        if (tangents.count != vertexCount) {
+            error("accessor " + std::to_string(tangentIndex) + " (" + role + ") has " +
+                  std::to_string(tangents.count) + " elements, POSITION has " +
                   std::to_string(vertexCount));
         }
     }
@@ -1375,10 +1428,34 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
     }
     // A mirroring transform turns counter-clockwise triangles clockwise (glTF 2.0 §3.7.4).
     const bool flip = determinant < 0.0;
-    for (const glm::uvec3& t : triangles) {
-        gpu::Triangle tri{base + t.x, base + (flip ? t.z : t.y), base + (flip ? t.y : t.z),
-                          material};
-        m_scene.triangles.push_back(tri);
+    for (glm::uvec3& t : triangles) {
+        if (flip) std::swap(t.y, t.z);
+        m_scene.triangles.push_back({base + t.x, base + t.y, base + t.z, material});
+    }
+
+    // Tangents of normal-mapped primitives (Scene::tangents, one per scene vertex once any
+    // primitive has them): TANGENT transformed as a direction, its w flipped by a mirroring
+    // transform (the bitangent cross(N, T) w must stay the transformed one); else generated.
+    if (normalMapped && m_scene.tangents.empty()) m_scene.tangents.resize(base, glm::vec4(0.0f));
+    if (!m_scene.tangents.empty()) {
+        std::vector<glm::vec4> generated;
+        if (normalMapped && !hasTangents) {
+            generated = generateTangents(std::span(m_scene.vertices).subspan(base), triangles);
+        }
+        for (size_t i = 0; i < vertexCount; ++i) {
+            glm::vec4 tangent(0.0f);
+            if (hasTangents) {
+                const glm::vec4 t = tangents.vec4(i);
+                const glm::dvec3 d = linear * glm::dvec3(glm::vec3(t));
+                const double length = glm::length(d);
+                if (length > 0.0 && std::isfinite(length) && std::isfinite(t.w)) {
+                    tangent = glm::vec4(glm::vec3(d / length), (t.w < 0.0f) != flip ? -1.0f : 1.0f);
+                }
+            } else if (normalMapped) {
+                tangent = generated[i];
+            }
+            m_scene.tangents.push_back(tangent);
+        }
     }
 }
 

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/texture_lookup.h"
 
 namespace pmcr {
 
@@ -34,13 +35,30 @@ float luminance(const glm::vec3& rgb) {
     return 0.2126f * rgb.r + 0.7152f * rgb.g + 0.0722f * rgb.b;
 }
 
+float emitterLuminance(const Scene& scene, uint32_t triangle) {
+    if (!scene.triangleEmission.empty()) return scene.triangleEmission[triangle];
+    return luminance(scene.materials[scene.triangles[triangle].material].emission);
+}
+
 float emitterPower(const Scene& scene, uint32_t triangle) {
     const gpu::Triangle& t = scene.triangles[triangle];
     const gpu::Material& m = scene.materials[t.material];
     const float sides = (m.flags & gpu::MATERIAL_DOUBLE_SIDED) ? 2.0f : 1.0f;
     // Power of a diffuse area light, Phi = pi * A * L per emitting side (pbrt-v4,
-    // DiffuseAreaLight::Phi), with L reduced to its luminance.
-    return triangleArea(scene, t) * luminance(m.emission) * glm::pi<float>() * sides;
+    // DiffuseAreaLight::Phi), with L reduced to its luminance (its mean over a textured one).
+    return triangleArea(scene, t) * emitterLuminance(scene, triangle) * glm::pi<float>() * sides;
+}
+
+uint32_t sceneFeatures(const Scene& scene) {
+    uint32_t features = 0;
+    for (const gpu::Material& m : scene.materials) {
+        if (m.normalTexture != 0) features |= gpu::SCENE_FEATURE_NORMAL_MAPS;
+        if (m.alphaCutoff > 0.0f) features |= gpu::SCENE_FEATURE_ALPHA_MASKS;
+        if (m.absorption != glm::vec3(0.0f)) features |= gpu::SCENE_FEATURE_ABSORPTION;
+    }
+    if (!scene.triangleEmission.empty()) features |= gpu::SCENE_FEATURE_EMISSIVE_TEXTURES;
+    if (scene.tangents.size() != scene.vertices.size()) features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
+    return features;
 }
 
 // Vose's alias method (Vose 1991, "A linear algorithm for generating random numbers with a
@@ -234,6 +252,31 @@ void finalizeScene(Scene& scene) {
                      std::to_string(loaded) + " triangles with zero area");
     }
     scene.triangles = std::move(kept);
+
+    // Emitters with an emissiveTexture: light selection by the power of the textured emission,
+    // averaged over each triangle (the kernels sample a point uniformly in its area).
+    scene.triangleEmission.clear();
+    bool emissiveTextures = false;
+    for (const gpu::Material& m : scene.materials) {
+        if (m.emissiveTexture > scene.textures.size()) {
+            fail(file, "a material's emissiveTexture is out of range");
+        }
+        emissiveTextures |= m.emissiveTexture != 0 && luminance(m.emission) > 0.0f;
+    }
+    if (emissiveTextures) {
+        scene.triangleEmission.resize(scene.triangles.size());
+        for (size_t i = 0; i < scene.triangles.size(); ++i) {
+            const gpu::Triangle& t = scene.triangles[i];
+            const gpu::Material& m = scene.materials[t.material];
+            glm::vec3 mean(1.0f);
+            if (m.emissiveTexture != 0 && luminance(m.emission) > 0.0f) {
+                auto uv = [&](uint32_t v) { return glm::vec2(scene.vertices[v].u, scene.vertices[v].v); };
+                mean = meanOverTriangle(scene.textures[m.emissiveTexture - 1], uv(t.i0), uv(t.i1),
+                                        uv(t.i2), true);
+            }
+            scene.triangleEmission[i] = luminance(m.emission * mean);
+        }
+    }
 
     bool anyEmitter = false;
     for (const gpu::Triangle& t : scene.triangles) {

@@ -23,7 +23,9 @@ struct Camera {
     float aspect = 0.0f;  // width / height from the file; 0 when the file does not say
 };
 
-// An 8-bit sRGB texture (baseColorTexture), RGBA packed little-endian (R in the low byte).
+// An 8-bit texture, RGBA packed little-endian (R in the low byte): colour textures
+// (baseColorTexture, emissiveTexture) hold sRGB-encoded values, data textures (metallicRoughness,
+// normal) linear ones. Sampled as the kernels do by host/scene/texture_lookup.h.
 struct Texture {
     std::string name;
     uint32_t width = 0;
@@ -59,7 +61,18 @@ struct Scene {
     glm::vec3 boundsMax{0.0f};
     Environment environment;               // set before finalizeScene (loadScene's EnvironmentSpec)
     std::vector<gpu::PunctualLight> punctualLights;  // KHR_lights_punctual, world space
+    // Per vertex, for normal maps: the tangent (world space) and the bitangent's sign in w
+    // (glTF TANGENT, or generated: host/scene/tangents.h). Empty when no material has a
+    // normalTexture.
+    std::vector<glm::vec4> tangents;
+    // Per triangle, the luminance of its mean emitted radiance (emission times the mean of its
+    // emissiveTexture over the triangle), set by finalizeScene when an emitter has an
+    // emissiveTexture; empty otherwise (the emission is then the material's alone).
+    std::vector<float> triangleEmission;
 };
+
+// The gpu::SCENE_FEATURE_* bits the scene uses: the kernels are specialized for them.
+uint32_t sceneFeatures(const Scene& scene);
 
 // Emitters: every triangle whose material has non-zero emission, in a Walker alias table over
 // emitted power (area * luminance(Le) * pi * sides), and the total power.
@@ -93,13 +106,15 @@ LightGroupTable buildLightGroups(const Scene& scene);
 // sceneRadius): light sampling picks the lights in proportion to it.
 double punctualLightPower(const gpu::PunctualLight& light, float sceneRadius);
 
-// Selection probability of an emitter triangle as the kernels compute it for MIS:
-// power of the triangle / total power. Shared formula: see shaders/common/lights.glsl.
+// Power of an emitter triangle, area * luminance of its mean emission * pi * sides, and the
+// luminance it uses (the material's emission, or scene.triangleEmission with emissive
+// textures). The kernels compute the same for MIS: shaders/common/lights.glsl.
 float emitterPower(const Scene& scene, uint32_t triangle);
+float emitterLuminance(const Scene& scene, uint32_t triangle);
 
 // Recomputes bounds; throws pmcr::Error naming scene.path for NaN/Inf positions, no triangles
 // or no light (no emitters, punctual lights or environment); drops zero-area triangles with one
-// warning.
+// warning; computes triangleEmission for emissive textures.
 void finalizeScene(Scene& scene);
 
 float luminance(const glm::vec3& rgb);  // Rec. 709 / sRGB primaries

@@ -433,9 +433,9 @@ const PipelineLayout& Context::layout() {
     return *m_layout;
 }
 
-const Kernel& Context::kernel(const std::string& shaderName) {
-    auto& slot = m_kernels[shaderName];
-    if (!slot) slot = std::make_unique<Kernel>(layout(), shaderName);
+const Kernel& Context::kernel(const std::string& shaderName, uint32_t sceneFeatures) {
+    auto& slot = m_kernels[{shaderName, sceneFeatures}];
+    if (!slot) slot = std::make_unique<Kernel>(layout(), shaderName, sceneFeatures);
     return *slot;
 }
 

@@ -77,7 +77,8 @@ public:
     // built on first use and kept: lavapipe translates SPIR-V on every pipeline creation (tenths
     // of a second for the path tracer), so a process that renders many times builds each once.
     const PipelineLayout& layout();
-    const Kernel& kernel(const std::string& shaderName);
+    // `sceneFeatures` specializes it (Kernel): one pipeline per shader and feature set.
+    const Kernel& kernel(const std::string& shaderName, uint32_t sceneFeatures = 0);
 
 private:
     void destroy();
@@ -103,7 +104,7 @@ private:
     std::vector<std::string> m_messages;
 
     std::unique_ptr<PipelineLayout> m_layout;
-    std::map<std::string, std::unique_ptr<Kernel>> m_kernels;
+    std::map<std::pair<std::string, uint32_t>, std::unique_ptr<Kernel>> m_kernels;
 };
 
 }  // namespace pmcr::vk

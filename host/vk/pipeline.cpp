@@ -33,7 +33,8 @@ VkDescriptorType descriptorType(DescriptorSet::Kind kind, uint32_t binding) {
             binding == gpu::BINDING_LIGHT_GROUPS || binding == gpu::BINDING_LIGHT_EMITTERS ||
             binding == gpu::BINDING_ENV_TEXELS || binding == gpu::BINDING_ENV_ALIAS ||
             binding == gpu::BINDING_PUNCTUAL_LIGHTS || binding == gpu::BINDING_PUNCTUAL_ALIAS ||
-            binding == gpu::BINDING_TEXTURE_INFOS || binding == gpu::BINDING_TEXELS)
+            binding == gpu::BINDING_TEXTURE_INFOS || binding == gpu::BINDING_TEXELS ||
+            binding == gpu::BINDING_TANGENTS || binding == gpu::BINDING_TRIANGLE_EMISSION)
             return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     }
     return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -131,7 +132,7 @@ void DescriptorSet::bind(uint32_t binding, const Buffer& buffer) {
     vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
 }
 
-Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName)
+Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures)
     : m_context(layout.context()), m_name(shaderName) {
     auto code = spirv(shaderName);
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -145,6 +146,10 @@ Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName)
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    // Constant 0 is kSceneFeatures; a shader that does not declare it ignores it.
+    const VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+    const VkSpecializationInfo specialization{1, &entry, sizeof(uint32_t), &sceneFeatures};
+    info.stage.pSpecializationInfo = &specialization;
     info.layout = layout.handle();
     VkResult result =
         vkCreateComputePipelines(m_context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &m_pipeline);

@@ -64,7 +64,9 @@ private:
 
 class Kernel {
 public:
-    Kernel(const PipelineLayout& layout, const std::string& shaderName);
+    // The pipeline of shader `shaderName` with its specialization constant 0 (kSceneFeatures,
+    // shaders/common/scene.glsl) set to `sceneFeatures` (gpu::SCENE_FEATURE_* bits).
+    Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures = 0);
     ~Kernel();
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;

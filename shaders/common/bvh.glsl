@@ -61,22 +61,31 @@ bool bvhIntersectBox(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 invDir, f
 // Moller & Trumbore 1997 with the inside test on numerators scaled by |det|; on a hit with
 // 0 < t < hit.t overwrites hit. Same operations as intersectTriangle() in host/scene/bvh.h.
 // v0.w holds the original triangle index (as float bits).
-bool bvhIntersectTriangle(vec4 v0, vec3 e1, vec3 e2, vec3 origin, vec3 dir, inout Hit hit) {
-    vec3 p = cross(dir, e2);
-    float det = dot(e1, p);
+// e1.w and e2.w mark an alpha-masked triangle (shared/scene_types.h IsectTriangle): with the
+// scene.glsl kernels of a scene that has alpha masks (sceneHasAlphaMasks), a hit where its mask
+// cuts the surface away is no hit, for closest-hit and any-hit rays alike.
+bool bvhIntersectTriangle(vec4 v0, vec4 e1, vec4 e2, vec3 origin, vec3 dir, inout Hit hit) {
+    vec3 p = cross(dir, e2.xyz);
+    float det = dot(e1.xyz, p);
     float sgn = det < 0.0 ? -1.0 : 1.0;
     float absDet = det * sgn;
     vec3 s = origin - v0.xyz;
     float u = dot(s, p) * sgn;
-    vec3 q = cross(s, e1);
+    vec3 q = cross(s, e1.xyz);
     float v = dot(dir, q) * sgn;
     float invDet = 1.0 / absDet;
-    float t = dot(e2, q) * sgn * invDet;
+    float t = dot(e2.xyz, q) * sgn * invDet;
     // One test of everything (no early outs: on SIMD lanes every branch costs mask work).
     bool inside = absDet > 0.0 && u >= 0.0 && u <= absDet && v >= 0.0 && u + v <= absDet;
     if (!(inside && t > 0.0 && t < hit.t)) {
         return false;
     }
+#ifdef PMCR_SCENE_GLSL
+    if (sceneHasAlphaMasks() && floatBitsToUint(e1.w) != 0u &&
+        alphaCutAway(floatBitsToUint(e1.w), e2.w, floatBitsToUint(v0.w), u * invDet, v * invDet)) {
+        return false;
+    }
+#endif
     hit = Hit(t, floatBitsToUint(v0.w), u * invDet, v * invDet);
     return true;
 }
@@ -161,8 +170,8 @@ bool bvhStep(inout BvhTraversal t) {
     uvec4 w3 = bvhTexel(count > 0u ? address : address + 3u);
     bool next = false;  // t.ref is set to the next node or triangle
     if (count > 0u) {
-        if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1.xyz),
-                                 uintBitsToFloat(w2.xyz), t.origin, t.dir, t.hit)) {
+        if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1), uintBitsToFloat(w2),
+                                 t.origin, t.dir, t.hit)) {
             t.found = true;
         }
         if (count > 1u) {

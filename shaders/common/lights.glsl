@@ -12,10 +12,16 @@
 // Power per unit area of an emitter triangle: luminance(Le) * pi * (2 if double-sided), the
 // radiant exitance of a diffuse area light (pbrt-v4 DiffuseAreaLight::Phi over its area; the
 // host's emitterPower in host/scene/scene.cpp is this times the area).
+// With emissive textures, the luminance is the triangle's mean (Scene::triangleEmission).
+layout(set = SCENE_SET, binding = BINDING_TRIANGLE_EMISSION) uniform samplerBuffer triangleEmissionTexels;
+
 float emitterPowerPerArea(uint tri) {
     Material m = materialAt(triangleAt(tri).material);
     float sides = (m.flags & MATERIAL_DOUBLE_SIDED) != 0u ? 2.0 : 1.0;
-    return luminance(m.emission) * PI * sides;
+    float lum = sceneHasEmissiveTextures()
+                    ? texelFetch(triangleEmissionTexels, int(tri >> 2))[tri & 3u]
+                    : luminance(m.emission);
+    return lum * PI * sides;
 }
 
 // Power of an emitter triangle: area * luminance(Le) * pi * (2 if double-sided).

@@ -8,6 +8,15 @@
 layout(set = SCENE_SET, binding = BINDING_SCENE_INFO, scalar) uniform SceneInfoBlock {
     SceneInfo sceneInfo;
 };
+
+// The scene's features (SCENE_FEATURE_*), a specialization constant set when the host creates
+// the pipeline (vk::Kernel): code under a feature the scene lacks is folded away, so a scene
+// without normal maps, emissive textures, alpha masks or absorption pays nothing for them.
+layout(constant_id = 0) const uint kSceneFeatures = 0u;
+bool sceneHasNormalMaps() { return (kSceneFeatures & SCENE_FEATURE_NORMAL_MAPS) != 0u; }
+bool sceneHasEmissiveTextures() { return (kSceneFeatures & SCENE_FEATURE_EMISSIVE_TEXTURES) != 0u; }
+bool sceneHasAlphaMasks() { return (kSceneFeatures & SCENE_FEATURE_ALPHA_MASKS) != 0u; }
+bool sceneHasAbsorption() { return (kSceneFeatures & SCENE_FEATURE_ABSORPTION) != 0u; }
 // Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
 // per-lane addresses is a loop over the lanes for every word. A Vertex is VERTEX_TEXELS float
@@ -34,7 +43,10 @@ Material materialAt(uint i) {
     uvec4 a = texelFetch(materialTexels, int(MATERIAL_TEXELS * i));
     uvec4 b = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 1u));
     vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 2u)));
-    return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
+    vec4 d = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 3u)));
+    uvec4 e = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 4u));
+    return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
+                    c.w, d.xyz, d.w, e.x, e.y, e.z, uintBitsToFloat(e.w));
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -61,6 +73,73 @@ TextureInfo textureInfoAt(int i) {
     return TextureInfo(t.x, t.y, t.z, t.w);
 }
 
+// sRGB EOTF (IEC 61966-2-1).
+vec3 srgbToLinear(vec3 c) {
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
+}
+
+// Texel coordinate x (an integer) of a texture n texels wide under wrap mode `mode` (glTF 2.0
+// section 3.8.4.3). In float arithmetic, exact below 2^24: lavapipe has no vector integer
+// division, so an integer % would be a loop over the lanes.
+int wrapTexel(float x, float n, uint mode) {
+    float repeat = x - n * floor(x / n);
+    float period = x - 2.0 * n * floor(x / (2.0 * n));
+    float mirror = period < n ? period : 2.0 * n - 1.0 - period;
+    return int(mode == WRAP_CLAMP ? clamp(x, 0.0, n - 1.0) : mode == WRAP_MIRROR ? mirror : repeat);
+}
+
+// A texel as stored (8 bits per channel, in [0, 1]).
+vec4 texelAt(TextureInfo info, float fx, float fy) {
+    int x = wrapTexel(fx, float(info.width), info.wrap & 3u);
+    int y = wrapTexel(fy, float(info.height), info.wrap >> 2);
+    uint i = info.offset + uint(y) * info.width + uint(x);
+    return unpackUnorm4x8(texelFetch(textureTexels, int(i >> 2))[i & 3u]);
+}
+
+// Bilinear lookup of a texture; uv (0,0) is the image's top-left (glTF). Colour textures are
+// sRGB-encoded (decoded per texel, before filtering; alpha is linear), data textures
+// (metallicRoughness, normal) linear. host/scene/texture_lookup.cpp does the same on the host.
+vec4 sampleTextureRgba(int index, vec2 uv, bool srgb) {
+    TextureInfo info = textureInfoAt(index);
+    vec2 p = uv * vec2(info.width, info.height) - 0.5;
+    vec2 f = p - floor(p);
+    float x = floor(p.x);
+    float y = floor(p.y);
+    vec4 t00 = texelAt(info, x, y);
+    vec4 t10 = texelAt(info, x + 1.0, y);
+    vec4 t01 = texelAt(info, x, y + 1.0);
+    vec4 t11 = texelAt(info, x + 1.0, y + 1.0);
+    if (srgb) {
+        t00.rgb = srgbToLinear(t00.rgb);
+        t10.rgb = srgbToLinear(t10.rgb);
+        t01.rgb = srgbToLinear(t01.rgb);
+        t11.rgb = srgbToLinear(t11.rgb);
+    }
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
+}
+
+vec3 sampleTexture(int index, vec2 uv, bool srgb) { return sampleTextureRgba(index, uv, srgb).rgb; }
+
+// Texture coordinates of triangle `tri` at barycentrics (b1, b2).
+vec2 triangleUv(uint tri, vec2 b) {
+    Triangle t = triangleAt(tri);
+    vec2 uv0 = vec2(texelFetch(vertexTexels, int(VERTEX_TEXELS * t.i0)).w,
+                    texelFetch(vertexTexels, int(VERTEX_TEXELS * t.i0 + 1u)).w);
+    vec2 uv1 = vec2(texelFetch(vertexTexels, int(VERTEX_TEXELS * t.i1)).w,
+                    texelFetch(vertexTexels, int(VERTEX_TEXELS * t.i1 + 1u)).w);
+    vec2 uv2 = vec2(texelFetch(vertexTexels, int(VERTEX_TEXELS * t.i2)).w,
+                    texelFetch(vertexTexels, int(VERTEX_TEXELS * t.i2 + 1u)).w);
+    return (1.0 - b.x - b.y) * uv0 + b.x * uv1 + b.y * uv2;
+}
+
+// Whether an alpha-masked triangle (glTF alphaMode MASK) is cut away at barycentrics (b1, b2):
+// its base colour texture's alpha (`texture` + 1, as IsectTriangle's e1.w holds it) is below
+// `cutoff` (Material::alphaCutoff). The traversal (bvh.glsl) calls it for every candidate hit
+// on a masked triangle, closest-hit and shadow rays alike.
+bool alphaCutAway(uint texturePlusOne, float cutoff, uint tri, float b1, float b2) {
+    return sampleTextureRgba(int(texturePlusOne) - 1, triangleUv(tri, vec2(b1, b2)), false).a < cutoff;
+}
+
 #include "common/bvh.glsl"
 
 // A point on a surface, as the integrators use it.
@@ -69,6 +148,7 @@ struct SurfacePoint {
     vec3 normal;         // geometric, unit, as wound (front face = CCW)
     vec3 shadingNormal;  // unit, on the same side as `normal`
     vec2 uv;
+    vec2 barycentrics;   // (b1, b2) on `triangle`
     uint triangle;
     uint material;
 };
@@ -96,85 +176,91 @@ SurfacePoint surfaceAt(uint tri, vec2 b) {
     s.shadingNormal = len2 > 1e-12 ? ns * inversesqrt(len2) : s.normal;
     if (dot(s.shadingNormal, s.normal) < 0.0) s.shadingNormal = -s.shadingNormal;
     s.uv = b0 * vec2(v0.u, v0.v) + b.x * vec2(v1.u, v1.v) + b.y * vec2(v2.u, v2.v);
+    s.barycentrics = b;
     s.triangle = tri;
     s.material = t.material;
     return s;
 }
 
-// sRGB EOTF (IEC 61966-2-1).
-vec3 srgbToLinear(vec3 c) {
-    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
+// The vertex tangents of normal-mapped scenes (SCENE_FEATURE_NORMAL_MAPS): xyz the tangent,
+// w the bitangent's sign (host/scene/tangents.h).
+layout(set = SCENE_SET, binding = BINDING_TANGENTS) uniform samplerBuffer tangentTexels;
+
+// The shading normal a normal map gives at s: the texel's tangent-space normal (2 t - 1, x and y
+// times the material's normalScale) in the frame (T, B, N) of the interpolated tangent T and
+// normal N, B = sign * cross(N, T) (glTF 2.0 sec. 3.9.3; the MikkTSpace convention: T and the
+// sign per vertex, B computed per point, the tangent not renormalised before interpolation).
+// A mapped normal below the geometric surface is not used (the interpolated one is kept).
+vec3 normalMapped(SurfacePoint s, vec3 texel, float scale) {
+    Triangle t = triangleAt(s.triangle);
+    vec4 t0 = texelFetch(tangentTexels, int(t.i0));
+    vec4 t1 = texelFetch(tangentTexels, int(t.i1));
+    vec4 t2 = texelFetch(tangentTexels, int(t.i2));
+    vec2 b = s.barycentrics;
+    vec3 T = (1.0 - b.x - b.y) * t0.xyz + b.x * t1.xyz + b.y * t2.xyz;
+    vec3 N = s.shadingNormal;
+    T -= N * dot(N, T);
+    float len2 = dot(T, T);
+    if (!(len2 > 1e-12)) return N;
+    T *= inversesqrt(len2);
+    vec3 B = (t0.w < 0.0 ? -1.0 : 1.0) * cross(N, T);
+    vec3 tn = vec3((2.0 * texel.xy - 1.0) * scale, 2.0 * texel.z - 1.0);
+    vec3 n = tn.x * T + tn.y * B + tn.z * N;
+    float nLen2 = dot(n, n);
+    if (!(nLen2 > 1e-12)) return N;
+    n *= inversesqrt(nLen2);
+    return dot(n, s.normal) > 1e-3 ? n : N;
 }
 
-// Texel coordinate x (an integer) of a texture n texels wide under wrap mode `mode` (glTF 2.0
-// section 3.8.4.3). In float arithmetic, exact below 2^24: lavapipe has no vector integer
-// division, so an integer % would be a loop over the lanes.
-int wrapTexel(float x, float n, uint mode) {
-    float repeat = x - n * floor(x / n);
-    float period = x - 2.0 * n * floor(x / (2.0 * n));
-    float mirror = period < n ? period : 2.0 * n - 1.0 - period;
-    return int(mode == WRAP_CLAMP ? clamp(x, 0.0, n - 1.0) : mode == WRAP_MIRROR ? mirror : repeat);
-}
-
-// A texel as stored (8 bits per channel, in [0, 1]).
-vec3 texelAt(TextureInfo info, float fx, float fy) {
-    int x = wrapTexel(fx, float(info.width), info.wrap & 3u);
-    int y = wrapTexel(fy, float(info.height), info.wrap >> 2);
-    uint i = info.offset + uint(y) * info.width + uint(x);
-    return unpackUnorm4x8(texelFetch(textureTexels, int(i >> 2))[i & 3u]).rgb;
-}
-
-// Bilinear lookup of a texture; uv (0,0) is the image's top-left (glTF). Colour textures are
-// sRGB-encoded (decoded per texel, before filtering), data textures (metallicRoughness) linear.
-vec3 sampleTexture(int index, vec2 uv, bool srgb) {
-    TextureInfo info = textureInfoAt(index);
-    vec2 p = uv * vec2(info.width, info.height) - 0.5;
-    vec2 f = p - floor(p);
-    float x = floor(p.x);
-    float y = floor(p.y);
-    vec3 t00 = texelAt(info, x, y);
-    vec3 t10 = texelAt(info, x + 1.0, y);
-    vec3 t01 = texelAt(info, x, y + 1.0);
-    vec3 t11 = texelAt(info, x + 1.0, y + 1.0);
-    if (srgb) {
-        t00 = srgbToLinear(t00);
-        t10 = srgbToLinear(t10);
-        t01 = srgbToLinear(t01);
-        t11 = srgbToLinear(t11);
-    }
-    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
-}
-
-// A material's base colour, metallic and roughness at uv: its factors, times its textures
-// (glTF 2.0 section 3.9.2: baseColorTexture, sRGB; metallicRoughnessTexture's blue and green
-// channels, linear). The lookups run in a loop over the textures the material has, not under
-// one if per texture: lavapipe runs both sides of an if whatever its lanes take, and a loop's
-// body once (masked) and then only while a lane is still in it, so every vector pays for one
-// lookup and only vectors with two textures for the second (measured on pt: two ifs cost 7% of
-// its samples/s, the loop about 1%).
-void materialTextures(Material m, vec2 uv, out vec3 baseColor, out vec2 metallicRoughness) {
+// A material's base colour, metallic and roughness at s, and its shading normal: its factors,
+// times its textures (glTF 2.0 section 3.9.2: baseColorTexture, sRGB; metallicRoughnessTexture's
+// blue and green channels, linear; normalTexture, linear, normalMapped). The lookups run in a
+// loop over the textures the material has, not under one if per texture: lavapipe runs both
+// sides of an if whatever its lanes take, and a loop's body once (masked) and then only while a
+// lane is still in it, so every vector pays for one lookup and only vectors with two textures
+// for the second (measured on pt: two ifs cost 7% of its samples/s, the loop about 1%). The
+// normal map is compiled in only for scenes that have one (sceneHasNormalMaps).
+void materialTextures(Material m, SurfacePoint s, out vec3 baseColor, out vec2 metallicRoughness,
+                      out vec3 shadingNormal) {
     baseColor = m.baseColor;
     metallicRoughness = vec2(m.metallic, m.roughness);
-    int mrTexture = int(m.flags >> MATERIAL_MR_TEXTURE_SHIFT) - 1;
-    int count = (m.baseColorTexture >= 0 ? 1 : 0) + (mrTexture >= 0 ? 1 : 0);
+    shadingNormal = s.shadingNormal;
+    int mrTexture = int(m.metallicRoughnessTexture) - 1;
+    int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
+    int count = (m.baseColorTexture >= 0 ? 1 : 0) + (mrTexture >= 0 ? 1 : 0) +
+                (normalTexture >= 0 ? 1 : 0);
+    vec3 normalTexel = vec3(0.5, 0.5, 1.0);
     for (int k = 0; k < count; ++k) {
-        bool base = k == 0 && m.baseColorTexture >= 0;
-        vec3 t = sampleTexture(base ? m.baseColorTexture : mrTexture, uv, base);
-        if (base) {
+        // The k-th texture the material has: 0 base colour, 1 metallicRoughness, 2 normal.
+        int which = k + (m.baseColorTexture >= 0 ? 0 : 1);
+        which += which >= 1 && mrTexture < 0 ? 1 : 0;
+        int index = which == 0 ? m.baseColorTexture : which == 1 ? mrTexture : normalTexture;
+        vec3 t = sampleTexture(index, s.uv, which == 0);
+        if (which == 0) {
             baseColor *= t;
-        } else {
+        } else if (which == 1) {
             metallicRoughness *= t.bg;
+        } else {
+            normalTexel = t;
         }
+    }
+    if (sceneHasNormalMaps() && normalTexture >= 0) {
+        shadingNormal = normalMapped(s, normalTexel, m.normalScale);
     }
 }
 
 // Radiance emitted by a surface towards direction w (unit, away from the surface): area lights
-// emit from their front face only unless the material is double-sided (pbrt, Mitsuba).
+// emit from their front face only unless the material is double-sided (pbrt, Mitsuba). Its
+// emissiveTexture (sRGB) multiplies the emission (glTF 2.0 sec. 3.9.4).
 vec3 emittedRadiance(SurfacePoint s, vec3 w) {
     Material m = materialAt(s.material);
     if (maxComponent(m.emission) <= 0.0) return vec3(0.0);
-    if (dot(s.normal, w) > 0.0 || (m.flags & MATERIAL_DOUBLE_SIDED) != 0u) return m.emission;
-    return vec3(0.0);
+    if (!(dot(s.normal, w) > 0.0 || (m.flags & MATERIAL_DOUBLE_SIDED) != 0u)) return vec3(0.0);
+    vec3 Le = m.emission;
+    if (sceneHasEmissiveTextures() && m.emissiveTexture != 0u) {
+        Le *= sampleTexture(int(m.emissiveTexture) - 1, s.uv, true);
+    }
+    return Le;
 }
 
 #endif

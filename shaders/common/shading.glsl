@@ -21,12 +21,13 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     sh.surface = s;
     sh.front = dot(s.normal, wo) > 0.0;
     sh.ng = sh.front ? s.normal : -s.normal;
-    sh.frame = frameFromNormal(sh.front ? s.shadingNormal : -s.shadingNormal);
-    sh.woLocal = toLocal(sh.frame, wo);
     Material m = materialAt(s.material);
     vec3 baseColor;
     vec2 metallicRoughness;
-    materialTextures(m, s.uv, baseColor, metallicRoughness);
+    vec3 shadingNormal;
+    materialTextures(m, s, baseColor, metallicRoughness, shadingNormal);
+    sh.frame = frameFromNormal(sh.front ? shadingNormal : -shadingNormal);
+    sh.woLocal = toLocal(sh.frame, wo);
     sh.bsdf = makeBsdf(baseColor, metallicRoughness.x, metallicRoughness.y, m.transmission, m.ior,
                        sh.front);
     return sh;
@@ -61,6 +62,17 @@ bool shadingSampleDirection(ShadingPoint sh, float uLobe, vec2 u, out BsdfSample
     if (!bsdfSampleDirection(sh.bsdf, sh.woLocal, uLobe, u, s)) return false;
     wi = toWorld(sh.frame, s.wi);
     return (dot(wi, sh.ng) > 0.0) == (s.wi.z > 0.0);
+}
+
+// Beer-Lambert transmittance exp(-sigma_a d) of a segment of length `dist` along `dir` that
+// ends at s: a segment that reaches the back of a surface whose material absorbs
+// (KHR_materials_volume) ran inside that material's medium. Every method applies it where a
+// segment ends (path tracing, path evaluation of ERPT and PMC-ER), so they estimate the same
+// image. Shadow rays end on emitters, not in a medium's boundary, and take none.
+vec3 segmentTransmittance(SurfacePoint s, vec3 dir, float dist) {
+    if (!sceneHasAbsorption()) return vec3(1.0);
+    if (!(dot(s.normal, dir) > 0.0)) return vec3(1.0);
+    return exp(-materialAt(s.material).absorption * dist);
 }
 
 // Origin for a ray leaving the shading point in direction w.

@@ -21,7 +21,13 @@ PMCR_CONST uint BINDING_LIGHT_EMITTERS = 10;  // Emitter[] as a uint texel buffe
 PMCR_CONST uint BINDING_TRIANGLE_LIGHTS = 11; // uint[] per triangle: its LightGroup, or LIGHT_NONE
 PMCR_CONST uint BINDING_ENV_TEXELS = 12;      // vec4[] float texel buffer: the environment image's RGB, row-major, top row first
 PMCR_CONST uint BINDING_ENV_ALIAS = 13;       // Emitter[] as a uint texel buffer: an alias table over its pixels
-PMCR_CONST uint SCENE_BINDING_COUNT = 14;
+PMCR_CONST uint BINDING_TANGENTS = 14;        // vec4[] float texel buffer: per vertex its tangent
+                                              // (xyz, world space) and bitangent sign (w); only
+                                              // with SCENE_FEATURE_NORMAL_MAPS
+PMCR_CONST uint BINDING_TRIANGLE_EMISSION = 15;  // float[] four to a float texel: per triangle the
+                                              // luminance of its mean emitted radiance; only with
+                                              // SCENE_FEATURE_EMISSIVE_TEXTURES
+PMCR_CONST uint SCENE_BINDING_COUNT = 16;
 
 PMCR_CONST uint WORK_SET = 1;
 PMCR_CONST uint WORK_BINDING_COUNT = 16;     // storage buffers 0..15, meaning set per kernel

@@ -26,7 +26,8 @@ PMCR_CHECK_SIZE(Triangle, 16);
 
 // Intersection-ready triangle in BVH leaf order (Moller-Trumbore form):
 // v0.xyz = first vertex, v0.w = uintBitsToFloat(original triangle index), e1 = v1 - v0, e2 = v2 - v0.
-// e1.w and e2.w are unused (0).
+// An alpha-masked triangle (Material::alphaCutoff > 0) has e1.w = uintBitsToFloat(its base colour
+// texture + 1) and e2.w = its alphaCutoff (Bvh::build(const Scene&)); others have 0 and 0.
 struct IsectTriangle {
     vec4 v0;
     vec4 e1;
@@ -91,29 +92,49 @@ struct BvhQuery {
 };
 PMCR_CHECK_SIZE(BvhQuery, 32);
 
-// Material flags. Bits MATERIAL_MR_TEXTURE_SHIFT and up hold the metallicRoughnessTexture's
-// index + 1 (0: none), so that the material stays three texels (fetched at every hit).
+// Material flags.
 PMCR_CONST uint MATERIAL_DOUBLE_SIDED = 1u;   // emits from both faces; two-sided shading
-PMCR_CONST uint MATERIAL_MR_TEXTURE_SHIFT = 8u;
 
-// The glTF metallic-roughness model as pmcr interprets it (see host/scene/material.h):
+// The glTF metallic-roughness model as pmcr interprets it (shaders/common/bsdf.glsl makeBsdf):
 // a mixture of up to three lobes with weights
 //   conductor  = metallic                         (GGX, Schlick F0 = baseColor; mirror at roughness 0)
 //   dielectric = (1 - metallic) * transmission    (smooth or GGX rough glass, tinted by baseColor)
 //   base       = (1 - metallic) * (1 - transmission):
 //                Lambertian when roughness == 1, else Lambertian under a GGX dielectric coat.
+// Textures are numbered from 0 (baseColorTexture, -1 for none) or from 1 (the others, 0 for
+// none, so that a zero-initialised Material has none). All of a material's textures read the
+// same texture coordinates (the vertices' uv).
 struct Material {
     vec3 baseColor;
     int baseColorTexture;  // index into TextureInfo[], -1 for none
     vec3 emission;         // emitted radiance (emissiveFactor * KHR_materials_emissive_strength)
-    uint flags;            // MATERIAL_* bits, and the metallicRoughnessTexture (above)
+    uint flags;            // MATERIAL_* bits
     float metallic;        // times the metallicRoughnessTexture's blue channel, when it has one
     float roughness;       // perceptual; GGX alpha = roughness^2; times the texture's green
     float transmission;
     float ior;
+    // Absorption coefficient (per unit length) of the medium inside a transmissive material
+    // (KHR_materials_volume: -ln(attenuationColor) / attenuationDistance; Beer-Lambert); 0: none.
+    vec3 absorption;
+    float normalScale;     // normalTexture.scale: the tangent-space normal's x and y scale
+    uint metallicRoughnessTexture;  // index + 1, 0 for none (linear; blue metal, green rough)
+    uint normalTexture;    // index + 1, 0 for none (tangent space, MikkTSpace convention)
+    uint emissiveTexture;  // index + 1, 0 for none (sRGB; emission is multiplied by it)
+    // alphaMode MASK (and BLEND, rendered as MASK): the surface is cut away where the base
+    // colour texture's alpha is below alphaCutoff (alphaCutoff / baseColorFactor's alpha, so
+    // that it compares with the texture alone). 0: opaque. Applied in traversal (IsectTriangle).
+    float alphaCutoff;
 };
-PMCR_CHECK_SIZE(Material, 48);
-PMCR_CONST uint MATERIAL_TEXELS = 3;
+PMCR_CHECK_SIZE(Material, 80);
+PMCR_CONST uint MATERIAL_TEXELS = 5;
+
+// Scene features the kernels are specialized for (specialization constant 0, kSceneFeatures in
+// shaders/common/scene.glsl; host/scene/scene.h sceneFeatures): code for a feature the scene
+// lacks is compiled out when the pipeline is created, so scenes without it pay nothing.
+PMCR_CONST uint SCENE_FEATURE_NORMAL_MAPS = 1u;        // a material has a normalTexture
+PMCR_CONST uint SCENE_FEATURE_EMISSIVE_TEXTURES = 2u;  // an emitter has an emissiveTexture
+PMCR_CONST uint SCENE_FEATURE_ALPHA_MASKS = 4u;        // a triangle is cut by an alpha mask
+PMCR_CONST uint SCENE_FEATURE_ABSORPTION = 8u;         // a material absorbs inside (volume)
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.

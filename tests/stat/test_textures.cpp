@@ -3,6 +3,11 @@
 // texture of blue 0 and green 1 turns a rough metal into the Lambertian its factors then name,
 // and renders bit for bit as that Lambertian does; a texture of blue 1 leaves the metal.
 // baseColor: the factor times the texel decoded from sRGB renders as that colour untextured.
+// normalTexture: a floor whose map tilts the normal renders as the floor whose vertex normals
+// are that tilted normal. alphaMode MASK: a card whose alpha is 0 (everywhere, or where its
+// uvs fall) is invisible to camera and shadow rays, one whose alpha is 1 is the opaque card.
+// emissiveTexture: emitters textured black and white render as emitters of those emissions
+// (light selection by the textured power included).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -64,7 +69,7 @@ TEST_F(MaterialTextures, MetallicRoughnessScalesTheFactorsByBlueAndGreen) {
     metal.metallic = 1.0f;
     metal.roughness = 1.0f;
     gpu::Material textured = metal;
-    textured.flags |= 1u << gpu::MATERIAL_MR_TEXTURE_SHIFT;  // texture 0
+    textured.metallicRoughnessTexture = 1;  // texture 0
 
     const uint32_t blue0green1 = 0xFF00FF00u;  // RGBA little-endian: R 0, G 255, B 0, A 255
     const uint32_t blue1green1 = 0xFFFFFF00u;  // B 255
@@ -128,6 +133,94 @@ TEST_F(MaterialTextures, WrapModes) {
     EXPECT_TRUE(close(render(texturedFloor(textured, 0, redBlue, gpu::WRAP_MIRROR, {1.25f, 0.5f})),
                       render(texturedFloor(blue, 0))))
         << "MIRRORED_REPEAT";
+}
+
+double relativeError(const Image& a, const Image& e) {
+    double err = 0.0, norm = 0.0;
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+        err += (a.rgb[i] - e.rgb[i]) * (a.rgb[i] - e.rgb[i]);
+        norm += e.rgb[i] * e.rgb[i];
+    }
+    return norm > 0.0 ? std::sqrt(err / norm) : 1.0;
+}
+
+// The floor's tangent is +x with sign +1, its normal +y, so B = cross(N, T) = -z: a texel
+// (x, y, z) in [-1, 1] maps to the world normal (x s, z, -y s) for normalScale s.
+TEST_F(MaterialTextures, NormalMapTiltsTheShadingNormal) {
+    const uint32_t r = 200, g = 90, b = 220;
+    const uint32_t texel = 0xFF000000u | (b << 16) | (g << 8) | r;
+    for (float scale : {1.0f, 0.5f}) {
+        gpu::Material mapped = testMaterial(glm::vec3(0.0f));
+        mapped.normalTexture = 1;  // texture 0
+        mapped.normalScale = scale;
+        Scene withMap = texturedFloor(mapped, texel);
+        withMap.tangents.assign(withMap.vertices.size(), glm::vec4(1, 0, 0, 1));
+        ASSERT_EQ(sceneFeatures(withMap) & gpu::SCENE_FEATURE_NORMAL_MAPS, gpu::SCENE_FEATURE_NORMAL_MAPS);
+        const glm::vec3 t = glm::vec3(r, g, b) / 255.0f * 2.0f - 1.0f;
+        const glm::vec3 n = glm::normalize(glm::vec3(t.x * scale, t.z, -t.y * scale));
+        Scene tilted = texturedFloor(testMaterial(glm::vec3(0.0f)), texel);
+        for (size_t i = 0; i < 6; ++i) tilted.vertices[i].normal = n;  // the floor's vertices
+        const Image a = render(withMap), e = render(tilted);
+        EXPECT_LT(relativeError(a, e), 1e-4) << "scale " << scale;
+        EXPECT_GT(relativeError(e, render(texturedFloor(testMaterial(glm::vec3(0.0f)), texel))), 0.01)
+            << "the tilt should show";
+    }
+}
+
+// A unit card at height 0.5 between the floor and the light, textured by a two-texel row
+// (alpha 0, alpha 255) read at u (CLAMP_TO_EDGE: u 0 is the first texel, 1 the second).
+Scene cardOverFloor(bool masked, float u, bool withCard = true) {
+    gpu::Material card = testMaterial(glm::vec3(0.0f));
+    card.baseColor = glm::vec3(0.9f, 0.2f, 0.2f);
+    card.baseColorTexture = 0;
+    if (masked) card.alphaCutoff = 0.5f;
+    Scene s = texturedFloor(testMaterial(glm::vec3(0.0f)), 0, {0x00FFFFFFu, 0xFFFFFFFFu}, gpu::WRAP_CLAMP);
+    if (withCard) {
+        s.materials.push_back(card);
+        const uint32_t m = uint32_t(s.materials.size() - 1);
+        addTriangle(s, {-0.5f, 0.5f, -0.5f}, {-0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}, m);
+        addTriangle(s, {-0.5f, 0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, -0.5f}, m);
+        for (size_t i = s.vertices.size() - 6; i < s.vertices.size(); ++i) s.vertices[i].u = u;
+    }
+    finalizeScene(s);
+    return s;
+}
+
+TEST_F(MaterialTextures, AlphaMaskCutsCameraAndShadowRays) {
+    ASSERT_EQ(sceneFeatures(cardOverFloor(true, 0.0f)), gpu::SCENE_FEATURE_ALPHA_MASKS);
+    const Image noCard = render(cardOverFloor(false, 0.0f, false));
+    const Image opaqueCard = render(cardOverFloor(false, 0.0f));
+    ASSERT_GT(relativeError(opaqueCard, noCard), 0.05) << "the card should show";
+    EXPECT_LT(relativeError(render(cardOverFloor(true, 0.0f)), noCard), 1e-4) << "alpha 0: cut";
+    EXPECT_LT(relativeError(render(cardOverFloor(true, 1.0f)), opaqueCard), 1e-4) << "alpha 1: kept";
+}
+
+// Two emitter triangles side by side, each reading one texel of a black and white row
+// (CLAMP_TO_EDGE, u = 0 and u = 1) times emission 6: as a black and a white emitter of 6.
+TEST_F(MaterialTextures, EmissiveTextureScalesEmission) {
+    auto scene = [](bool textured) {
+        Scene s = texturedFloor(testMaterial(glm::vec3(0.0f)), 0, {0xFF000000u, 0xFFFFFFFFu}, gpu::WRAP_CLAMP);
+        s.triangles.pop_back();  // the untextured emitter
+        gpu::Material glow = testMaterial(glm::vec3(6.0f));
+        if (textured) {
+            glow.emissiveTexture = 1;
+            s.materials.push_back(glow);
+        } else {
+            s.materials.push_back(testMaterial(glm::vec3(0.0f)));
+            s.materials.push_back(glow);
+        }
+        const uint32_t dark = 2, bright = textured ? 2 : 3;
+        addTriangle(s, {-0.6f, 1.5f, -0.3f}, {0.0f, 1.5f, 0.3f}, {-0.6f, 1.5f, 0.3f}, dark);
+        addTriangle(s, {0.0f, 1.5f, -0.3f}, {0.6f, 1.5f, 0.3f}, {0.0f, 1.5f, 0.3f}, bright);
+        for (size_t i = s.vertices.size() - 3; i < s.vertices.size(); ++i) s.vertices[i].u = 1.0f;
+        finalizeScene(s);
+        return s;
+    };
+    const Scene textured = scene(true);
+    ASSERT_EQ(sceneFeatures(textured), gpu::SCENE_FEATURE_EMISSIVE_TEXTURES);
+    EXPECT_FLOAT_EQ(textured.triangleEmission[textured.triangles.size() - 2], 0.0f);
+    EXPECT_NEAR(textured.triangleEmission.back(), 6.0f, 1e-5f);
+    EXPECT_LT(relativeError(render(textured), render(scene(false))), 1e-4);
 }
 
 }  // namespace

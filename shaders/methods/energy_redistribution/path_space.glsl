@@ -63,13 +63,15 @@ float absCosGeometric(SurfacePoint s, vec3 w) { return abs(dot(s.normal, w)); }
 
 // P(x): the product of the scattering factors of x1..x_k-1 (f_s at D vertices, the delta lobe's
 // weight at S vertices, evaluated for light flowing from x_k towards the eye as a path tracer
-// does) and Le(x_k -> x_k-1). Zero when a vertex cannot scatter as its type says.
+// does), the segments' absorption (segmentTransmittance) and Le(x_k -> x_k-1). Zero when a vertex cannot scatter as its type says.
 vec3 pathThroughput(uint base, uint k) {
     vec3 P = vec3(1.0);
     vec3 previous = sceneInfo.cameraPosition;
     SurfacePoint current = pathPoint(base, 0u);
     for (uint i = 0u; i + 1u < k; ++i) {
         SurfacePoint next = pathPoint(base, i + 1u);
+        vec3 toCurrent = current.position - previous;
+        P *= segmentTransmittance(current, normalize(toCurrent), length(toCurrent));
         vec3 wo = normalize(previous - current.position);
         vec3 wi = normalize(next.position - current.position);
         ShadingPoint sh = makeShadingPoint(current, wo);
@@ -86,6 +88,8 @@ vec3 pathThroughput(uint base, uint k) {
         previous = current.position;
         current = next;
     }
+    vec3 toLight = current.position - previous;
+    P *= segmentTransmittance(current, normalize(toLight), length(toLight));
     return P * emittedRadiance(current, normalize(previous - current.position));
 }
 

@@ -165,6 +165,7 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
         return false;
     }
     SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    p.beta *= segmentTransmittance(s, p.dir, hit.t);  // p.dir is unit: t is the distance
     vec3 wo = -p.dir;
     ShadingPoint sh = makeShadingPoint(s, wo);
 #ifdef PT_RECORD_PATHS
@@ -340,6 +341,7 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
     ShadingPoint sh = makeShadingPoint(s, wo);
     vec3 L = emittedRadiance(s, wo);
     float n = float(lightSamples);
+    vec3 cameraTransmittance = segmentTransmittance(s, dir, hit.t);
 
     for (uint i = 0u; i < lightSamples; ++i) {
         // Light sample.
@@ -370,7 +372,7 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
         float pdfLight;
         if (traceClosest(spawnOrigin(sh, wi), wi, FLOAT_MAX, lightHit)) {
             SurfacePoint l = surfaceAt(lightHit.triangle, vec2(lightHit.b1, lightHit.b2));
-            Lemit = emittedRadiance(l, -wi);
+            Lemit = emittedRadiance(l, -wi) * segmentTransmittance(l, wi, lightHit.t);
             pdfLight = areaToSolidAngle(emitterAreaPdf(l.triangle), s.position, l.position, l.normal);
         } else {
             if (!hasEnvironment()) continue;
@@ -381,7 +383,7 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
         float w = bs.delta ? 1.0 : powerHeuristic(n, bs.pdf, n, pdfLight);
         L += bs.f * abs(bs.wi.z) * Lemit * w / (n * bs.pdf);
     }
-    return L;
+    return L * cameraTransmittance;
 }
 
 #endif
