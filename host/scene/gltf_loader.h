@@ -9,8 +9,9 @@
 namespace pmcr {
 
 // Loads the default scene of a glTF 2.0 file: its triangles flattened to world space, materials
-// (metallic-roughness plus KHR_materials_emissive_strength, _transmission, _ior, _volume),
-// baseColor textures and perspective cameras, then calls finalizeScene. Every index, range and
+// (metallic-roughness plus KHR_materials_emissive_strength, _transmission, _ior, _volume), their
+// textures (base colour, metallic-roughness, normal, emissive; alpha masks), KHR_lights_punctual
+// lights and perspective cameras, then calls finalizeScene. Every index, range and
 // value read is validated; bad input throws pmcr::Error "<file>: <problem>" (one line), input
 // pmcr only partly supports gives one warning per kind.
 // `environment` (--env), else the image the file's extras.pmcr.environment names (relative to

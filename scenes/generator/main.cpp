@@ -5,6 +5,8 @@
 //   pmcr-scenegen --check <file.glb|file.gltf>...   check existing files
 //   pmcr-scenegen --list                             list the scenes
 //   pmcr-scenegen --sky <file.exr>                   write the clear afternoon sky (sky.h)
+//   pmcr-scenegen --on-ground <model.glb> <out.glb> <sky>   a sample model on a ground plane
+//                                                    under the sky file <sky> (on_ground.h)
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -14,6 +16,8 @@
 #include "gltf_check.h"
 #include "gltf_writer.h"
 #include "image/image.h"
+#include "on_ground.h"
+#include "scene/gltf_loader.h"
 #include "scenes.h"
 #include "sky.h"
 
@@ -24,7 +28,8 @@ void usage() {
                  "usage: pmcr-scenegen [--assets DIR] <output-dir> [scene-name...]\n"
                  "       pmcr-scenegen --check <file.glb|file.gltf>...\n"
                  "       pmcr-scenegen --list\n"
-                 "       pmcr-scenegen --sky <file.exr>\n");
+                 "       pmcr-scenegen --sky <file.exr>\n"
+                 "       pmcr-scenegen --on-ground <model.glb> <out.glb> <sky.exr>\n");
 }
 
 int run(std::vector<std::string> args) {
@@ -47,6 +52,19 @@ int run(std::vector<std::string> args) {
         }
         pmcr::writeHdr(args[1], preethamSky(SkyParams{}));
         std::printf("%s\n", args[1].c_str());
+        return 0;
+    }
+    if (args[0] == "--on-ground") {
+        if (args.size() != 4) {
+            usage();
+            return 2;
+        }
+        // The model keeps its own node transforms, which --check (made for the generator's
+        // flat scenes) refuses: pmcr's loader validates the file instead.
+        placeOnGround(args[1], args[2], args[3]);
+        const pmcr::Scene scene = pmcr::loadScene(args[2]);
+        std::printf("%s: %zu triangles, %zu materials, %zu textures\n", args[2].c_str(),
+                    scene.triangles.size(), scene.materials.size(), scene.textures.size());
         return 0;
     }
     if (args[0] == "--check") {

@@ -613,9 +613,12 @@ TEST(SceneFiles, EverySceneIsListedInTheReadmeWithItsLicence) {
         const auto ext = entry.path().extension();
         if (ext == ".glb" || ext == ".gltf") files.insert(entry.path().stem().string());
     }
-    // The generated scenes, and third-party samples copied unchanged (lit by --env).
+    // The generated scenes, third-party samples copied unchanged (lit by --env), and samples
+    // set on a ground plane under the sky (pmcr-scenegen --on-ground).
     std::vector<std::string> listed = kScenes;
     listed.push_back("MetalRoughSpheresNoTextures");
+    listed.push_back("MetalRoughSpheres-sky");
+    listed.push_back("GlassVaseFlowers-sky");
     EXPECT_EQ(files, std::set<std::string>(listed.begin(), listed.end()));
     for (const std::string& name : listed) {
         SCOPED_TRACE(name);
