@@ -16,6 +16,9 @@
 //  - a directional light: a fixed direction (a delta in direction), P takes its irradiance E
 //    and the segment factor is |cos_s(x_k-1, w)| as for the environment.
 // These factors are reconnectionFactor's and causticGamma's (path_space.glsl, mutate_caustic.glsl).
+// The code that handles these light vertices sits in #ifdef PMCR_OTHER_LIGHTS blocks, so that the
+// kernels for emitters alone are the code they were (measured: with the branches folded only at
+// run time, the chain kernel's SPIR-V grew by 40%).
 #ifndef PMCR_LIGHT_VERTEX_GLSL
 #define PMCR_LIGHT_VERTEX_GLSL
 
@@ -58,6 +61,7 @@ SurfacePoint lightVertexPoint(ChainVertex v) {
 // point, the intensity I (times the spot falloff) for a point or spot light, E for a directional
 // light, L_env for the environment (the header's measures).
 vec3 lightVertexEmission(ChainVertex v, SurfacePoint s, vec3 previous) {
+#ifdef PMCR_OTHER_LIGHTS
     if (vertexEnvironment(v)) return envRadiance(vertexDirection(v));
     if (vertexPunctual(v)) {
         PunctualLight l = punctualLightAt(v.triangle);
@@ -66,6 +70,7 @@ vec3 lightVertexEmission(ChainVertex v, SurfacePoint s, vec3 previous) {
             return l.intensity * spotFalloff(l, dot(normalize(previous - l.position), l.direction));
         return l.intensity;
     }
+#endif
     return emittedRadiance(s, normalize(previous - s.position));
 }
 

@@ -35,7 +35,11 @@ uint causticHead(uint base, uint k) {
     if (vertexSpecular(x1) || vertexEmitter(x1)) return 0u;
     for (uint i = 1u; i < k; ++i) {
         ChainVertex v = chainVertices[base + i];
+#ifdef PMCR_OTHER_LIGHTS
         if (!vertexSpecular(v)) return vertexIsDirection(v) ? 0u : i;
+#else
+        if (!vertexSpecular(v)) return i;
+#endif
     }
     return 0u;
 }
@@ -43,7 +47,10 @@ uint causticHead(uint base, uint k) {
 // |cos_g| at the head x_h towards x_h-1 in the caustic Gamma: 1 at a point or spot light, whose
 // measure is a delta in position, not area (path_space.glsl).
 float headCosine(uint base, uint h, SurfacePoint head, vec3 towardsEye) {
-    return vertexPunctual(chainVertices[base + h]) ? 1.0 : absCosGeometric(head, towardsEye);
+#ifdef PMCR_OTHER_LIGHTS
+    if (vertexPunctual(chainVertices[base + h])) return 1.0;
+#endif
+    return absCosGeometric(head, towardsEye);
 }
 
 // Gamma of the caustic measure (path_space.glsl) for the path at `base` with head h.
@@ -131,10 +138,11 @@ bool mutateCaustic(uint xBase, uint yBase, uint k, vec3 throughputX, AngleSample
     vec2 u = rngNext2(rng);
     float theta = sampleTheta(law, u.x);
     vec3 dir = rotateAround(center, theta, TWO_PI * u.y);
-    // (A point light's position is not on a surface: its rays leave from it.)
-    vec3 origin = vertexPunctual(chainVertices[xBase + h])
-                      ? head.position
-                      : offsetRayOrigin(head.position, dot(dir, head.normal) > 0.0 ? head.normal : -head.normal);
+    vec3 origin = offsetRayOrigin(head.position, dot(dir, head.normal) > 0.0 ? head.normal : -head.normal);
+#ifdef PMCR_OTHER_LIGHTS
+    // A point light's position is not on a surface: its rays leave from it.
+    if (vertexPunctual(chainVertices[xBase + h])) origin = head.position;
+#endif
 
     // Retrace the chain from the head towards the eye: x_h-1 ... x1.
     SurfacePoint s;

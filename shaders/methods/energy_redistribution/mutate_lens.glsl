@@ -42,6 +42,7 @@ bool mutateLens(uint xBase, uint yBase, uint k, vec2 raster, vec3 throughputX, f
     float gammaX = 1.0, gammaY = 1.0;
     for (uint i = 0u; i < k; ++i) {
         ChainVertex xv = chainVertices[xBase + i];
+#ifdef PMCR_OTHER_LIGHTS
         if (vertexPunctual(xv) || vertexEnvironment(xv)) {
             // The light vertex reached by tracing (E S* L or after a perturbed direction).
             if (!vertexEnvironment(xv)) return false;
@@ -50,6 +51,7 @@ bool mutateLens(uint xBase, uint yBase, uint k, vec2 raster, vec3 throughputX, f
             chainVertices[yBase + i] = makeChainVertex(xv.triangle, octEncode(dir), xv.flags);
             break;
         }
+#endif
         SurfacePoint s;
         vec2 b;
         if (!traceToSurface(origin, dir, rays, s, b)) return false;

@@ -73,7 +73,9 @@ ChainVertex makeChainVertex(uint triangle, vec2 b, uint flags) {
 
 // The surface point of v; for a punctual light or the environment, light_vertex.glsl's stand-in.
 SurfacePoint vertexPoint(ChainVertex v) {
+#ifdef PMCR_OTHER_LIGHTS
     if (vertexPunctual(v) || vertexEnvironment(v)) return lightVertexPoint(v);
+#endif
     return surfaceAt(v.triangle, vec2(v.b1, v.b2));
 }
 SurfacePoint pathPoint(uint base, uint i) { return vertexPoint(chainVertices[base + i]); }
@@ -83,7 +85,10 @@ float absCosGeometric(SurfacePoint s, vec3 w) { return abs(dot(s.normal, w)); }
 
 // The unit direction from `from` towards vertex v at s (a direction vertex: its direction).
 vec3 directionTowards(ChainVertex v, SurfacePoint s, vec3 from) {
-    return vertexIsDirection(v) ? vertexDirection(v) : normalize(s.position - from);
+#ifdef PMCR_OTHER_LIGHTS
+    if (vertexIsDirection(v)) return vertexDirection(v);
+#endif
+    return normalize(s.position - from);
 }
 
 // P(x): the product of the scattering factors of x1..x_k-1 (f_s at D vertices, the delta lobe's
@@ -129,6 +134,7 @@ float reconnectionFactor(SurfacePoint a, vec3 woA, SurfacePoint b) {
 // reconnectionFactor to vertex bv at b, whatever it is: for a point or spot light
 // |cos_s(a -> p)| / |a - p|^2, for a direction w |cos_s(a, w)| (the header's measures).
 float reconnectionFactorTo(SurfacePoint a, vec3 woA, ChainVertex bv, SurfacePoint b) {
+#ifdef PMCR_OTHER_LIGHTS
     if (vertexIsDirection(bv)) {
         ShadingPoint sh = makeShadingPoint(a, woA);
         return abs(dot(sh.frame.n, vertexDirection(bv)));
@@ -139,6 +145,7 @@ float reconnectionFactorTo(SurfacePoint a, vec3 woA, ChainVertex bv, SurfacePoin
         ShadingPoint sh = makeShadingPoint(a, woA);
         return abs(dot(sh.frame.n, d * inversesqrt(dist2))) / dist2;
     }
+#endif
     return reconnectionFactor(a, woA, b);
 }
 

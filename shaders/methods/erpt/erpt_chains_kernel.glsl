@@ -1,7 +1,7 @@
 // ERPT: advances chains [chainBase, chainBase + chainCount) by push.steps mutations each.
 //
-// The body of erpt_chains.comp and erpt_chains_all_lights.comp (PMCR_OTHER_LIGHTS: punctual lights and the
-// environment compiled in); the host picks the variant by the scene's lights
+// The body of erpt_chains.comp and erpt_chains_all_lights.comp (PMCR_OTHER_LIGHTS: punctual
+// lights and the environment compiled in); the host picks the variant by the scene's lights
 // (lightsKernelVariant, host/methods/pt/pt_integrator.h).
 #include "shared/host_device.h"
 

@@ -2,8 +2,8 @@
 // the pass (at chain slot push.chainBase + i): it finds its record by binary search over the
 // exclusive prefix sums of the chain counts, then its seed path within the record.
 //
-// The body of erpt_seed.comp and erpt_seed_all_lights.comp (PMCR_OTHER_LIGHTS: punctual lights and the
-// environment compiled in); the host picks the variant by the scene's lights
+// The body of erpt_seed.comp and erpt_seed_all_lights.comp (PMCR_OTHER_LIGHTS: punctual
+// lights and the environment compiled in); the host picks the variant by the scene's lights
 // (lightsKernelVariant, host/methods/pt/pt_integrator.h).
 #include "shared/host_device.h"
 

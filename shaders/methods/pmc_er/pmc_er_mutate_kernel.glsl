@@ -11,8 +11,8 @@
 // roulette: the member makes its last mutation with probability E_remain and dies either way,
 // so the expected number of deposits is E_remain exactly (host/methods/pmc_er/path_population.h).
 //
-// The body of pmc_er_mutate.comp and pmc_er_mutate_all_lights.comp (PMCR_OTHER_LIGHTS: punctual lights and the
-// environment compiled in); the host picks the variant by the scene's lights
+// The body of pmc_er_mutate.comp and pmc_er_mutate_all_lights.comp (PMCR_OTHER_LIGHTS: punctual
+// lights and the environment compiled in); the host picks the variant by the scene's lights
 // (lightsKernelVariant, host/methods/pt/pt_integrator.h).
 #include "shared/host_device.h"
 

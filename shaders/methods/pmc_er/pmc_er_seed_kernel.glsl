@@ -12,8 +12,8 @@
 // shares (e_d per deposit), so that no member's lifetime depends on its path; the paper's births
 // give E_remain = E and one share (host/methods/pmc_er/path_population.h says why that is biased).
 //
-// The body of pmc_er_seed.comp and pmc_er_seed_all_lights.comp (PMCR_OTHER_LIGHTS: punctual lights and the
-// environment compiled in); the host picks the variant by the scene's lights
+// The body of pmc_er_seed.comp and pmc_er_seed_all_lights.comp (PMCR_OTHER_LIGHTS: punctual
+// lights and the environment compiled in); the host picks the variant by the scene's lights
 // (lightsKernelVariant, host/methods/pt/pt_integrator.h).
 #include "shared/host_device.h"
 

@@ -1,7 +1,7 @@
 // Path tracing that also writes each sample's path record (ERPT and PMC-ER seeds).
 //
-// The body of pt_record.comp and pt_record_all_lights.comp (PMCR_OTHER_LIGHTS: punctual lights and the
-// environment compiled in); the host picks the variant by the scene's lights
+// The body of pt_record.comp and pt_record_all_lights.comp (PMCR_OTHER_LIGHTS: punctual
+// lights and the environment compiled in); the host picks the variant by the scene's lights
 // (lightsKernelVariant, host/methods/pt/pt_integrator.h).
 #include "shared/host_device.h"
 #define PT_RECORD_PATHS
