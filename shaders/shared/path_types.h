@@ -8,6 +8,15 @@
 //   explicit path  x0 x1 .. xk  y_k     (y_k sampled on an emitter from xk)
 // each with its MIS-weighted contribution (ERPT eq. 9 and 10, weighted by the power heuristic).
 // Each becomes a seed path of energy lum(contribution) in equal deposition (ERPT fig. 7).
+//
+// Lights other than emitter triangles (kernels compiled with PMCR_OTHER_LIGHTS):
+//  - an explicit connection to a punctual light sets VERTEX_SAMPLED_PUNCTUAL and stores the
+//    light's index in lightTriangle; one to the environment sets VERTEX_SAMPLED_ENVIRONMENT and
+//    stores the unit direction towards it, octahedral-encoded (octEncode), in lightB1, lightB2;
+//  - a ray that escapes to the environment after xk adds one more record vertex x_k+1 that is
+//    not a surface: flags VERTEX_EMITTER | VERTEX_ENVIRONMENT, the direction octahedral-encoded
+//    in barycentrics, its MIS-weighted contribution in implicitContribution. So the implicit
+//    path x0 .. xk (environment) is seed path 2 (k + 1) like any emitter hit.
 
 PMCR_CONST uint PATH_MAX_VERTICES = 16;   // eye vertices stored per record (x1..x16)
 
@@ -17,6 +26,11 @@ PMCR_CONST uint VERTEX_EMITTER = 2u;           // the surface emits towards the 
 PMCR_CONST uint VERTEX_HAS_LIGHT_SAMPLE = 4u;  // lightPosition/explicitContribution are valid
 PMCR_CONST uint VERTEX_BACKFACE = 8u;          // the previous vertex sees the back of the surface
 PMCR_CONST uint VERTEX_TRANSMISSION = 16u;     // the direction sampled here crosses the surface
+PMCR_CONST uint VERTEX_PUNCTUAL = 32u;         // not a surface: punctual light `triangle` (chains)
+PMCR_CONST uint VERTEX_ENVIRONMENT = 64u;      // not a surface: the environment in direction
+                                               // octDecode(b1, b2) from the previous vertex
+PMCR_CONST uint VERTEX_SAMPLED_PUNCTUAL = 4096u;     // the light sample is a punctual light
+PMCR_CONST uint VERTEX_SAMPLED_ENVIRONMENT = 8192u;  // the light sample is the environment
 
 struct PathVertex {
     vec3 position;

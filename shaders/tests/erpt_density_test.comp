@@ -21,9 +21,14 @@
 //          [6..9]  unit direction x1 -> x2 + s eps t_a, t the tangents at x2
 //          [10..27] (raster of x1', valid) and (x1' -> x2' direction) after retracing the specular
 //                   chain from the head moved by +-eps along its tangents, or its direction
-//                   turned by +-epsAngle towards its basis vectors, then the unperturbed one
+//                   turned by +-epsAngle towards its basis vectors, then the unperturbed one.
+//                   At a point light head "its tangents" span the plane normal to the
+//                   direction x_h -> x_h-1, so the determinant is Gamma / |cos_s(x1 -> x2)| with
+//                   no |cos_g| at the head, what causticGamma has there (path_space.glsl).
+// Compiled with the other lights (punctual, environment): scenes without them read the same.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
+#define PMCR_OTHER_LIGHTS
 #include "shared/host_device.h"
 
 #include "methods/energy_redistribution/mutate_caustic.glsl"
@@ -59,7 +64,9 @@ bool retraceToEye(uint base, uint h, vec3 headPosition, vec3 headNormal, vec3 di
     raster = vec2(-1.0);
     w12 = vec3(0.0);
     uint rays = 0u;
-    vec3 origin = offsetRayOrigin(headPosition, dot(dir, headNormal) > 0.0 ? headNormal : -headNormal);
+    vec3 origin = vertexPunctual(chainVertices[base + h])
+                      ? headPosition
+                      : offsetRayOrigin(headPosition, dot(dir, headNormal) > 0.0 ? headNormal : -headNormal);
     SurfacePoint s;
     for (int i = int(h) - 1; i >= 0; --i) {
         vec2 b;
@@ -104,7 +111,7 @@ void jacobians(uint j) {
     SurfacePoint head = pathPoint(base, h);
     vec3 center = normalize(pathPoint(base, h - 1u).position - head.position);
     vec3 tHead[2], tDir[2];
-    orthonormalBasis(head.normal, tHead[0], tHead[1]);
+    orthonormalBasis(vertexPunctual(chainVertices[base + h]) ? center : head.normal, tHead[0], tHead[1]);
     orthonormalBasis(center, tDir[0], tDir[1]);
     for (uint m = 0u; m < 9u; ++m) {
         float s = m % 2u == 0u ? 1.0 : -1.0;

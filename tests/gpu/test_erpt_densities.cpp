@@ -66,8 +66,23 @@ uint32_t causticHead(const std::vector<gpu::ChainVertex>& v) {
         return 0;
     for (uint32_t i = 1; i < v.size(); ++i)
         if (!(v[i].flags & gpu::VERTEX_SPECULAR))
-            return i;
+            return (v[i].flags & gpu::VERTEX_ENVIRONMENT) ? 0 : i;  // (no directional lights here)
     return 0;
+}
+
+// cornell-glass with a point light beside its area light (the caustic Gamma at a point head).
+Scene cornellGlassWithPointLight() {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    const glm::vec3 size = s.boundsMax - s.boundsMin;
+    gpu::PunctualLight l{};
+    l.type = gpu::PUNCTUAL_POINT;
+    l.position = s.boundsMin + size * glm::vec3(0.3f, 0.85f, 0.55f);
+    l.direction = glm::vec3(0, -1, 0);
+    l.intensity = glm::vec3(glm::dot(size, size));
+    s.punctualLights = {l};
+    s.path = "cornell-glass-point-light.glb";
+    finalizeScene(s);
+    return s;
 }
 
 class ErptDensities : public GpuTest {
@@ -82,14 +97,26 @@ protected:
     }
     void TearDown() override {
         m_session.reset();
+        m_scene.reset();
         GpuTest::TearDown();
+    }
+
+    // Renders `scene` from now on (recordPaths then uses the kernel for its lights).
+    void useScene(Scene scene) {
+        m_session.reset();
+        m_scene = std::make_unique<Scene>(std::move(scene));
+        RenderSettings settings;
+        settings.width = kSize;
+        settings.height = kSize;
+        m_session = std::make_unique<RenderSession>(context(), *m_scene, settings, kSize, kSize);
+        m_recordKernel = "methods/pt/pt_record_all_lights";
     }
 
     // Light paths of `passes` path-traced samples per pixel, split as erpt_seed.comp splits
     // them (every implicit and explicit path of a record with a non-zero contribution).
     std::vector<ChainPath> recordPaths(uint32_t passes) {
         const uint32_t pixels = kSize * kSize;
-        vk::Kernel ptRecord(m_session->layout(), "methods/pt/pt_record");
+        vk::Kernel ptRecord(m_session->layout(), m_recordKernel);
         PathRecords recorded(context(), pixels, "test path");
         vk::DescriptorSet work(m_session->layout(), vk::DescriptorSet::Kind::Work, "record work");
         recorded.bindTracer(work, *m_session, m_session->placeholder());
@@ -133,14 +160,17 @@ protected:
                                 if (pv.flags & gpu::VERTEX_SPECULAR)
                                     flags |= pv.lobe << gpu::CHAIN_LOBE_SHIFT;
                             } else if (kind == 0) {
-                                flags = gpu::VERTEX_EMITTER;
+                                flags = gpu::VERTEX_EMITTER | (pv.flags & gpu::VERTEX_ENVIRONMENT);
                             }
                             p.vertices.push_back(
                                 {pv.triangle, pv.barycentrics.x, pv.barycentrics.y, flags});
                         }
-                        if (kind == 1)
-                            p.vertices.push_back(
-                                {end.lightTriangle, end.lightB1, end.lightB2, gpu::VERTEX_EMITTER});
+                        if (kind == 1) {
+                            uint32_t flags = gpu::VERTEX_EMITTER;
+                            if (end.flags & gpu::VERTEX_SAMPLED_PUNCTUAL) flags |= gpu::VERTEX_PUNCTUAL;
+                            if (end.flags & gpu::VERTEX_SAMPLED_ENVIRONMENT) flags |= gpu::VERTEX_ENVIRONMENT;
+                            p.vertices.push_back({end.lightTriangle, end.lightB1, end.lightB2, flags});
+                        }
                         p.head = causticHead(p.vertices);
                         paths.push_back(p);
                     }
@@ -212,7 +242,9 @@ protected:
     // Detailed balance of the caustic perturbation on a recorded path (defined below).
     void expectCausticDetailedBalance(bool uniformLaw);
 
+    std::unique_ptr<Scene> m_scene;  // useScene's
     std::unique_ptr<RenderSession> m_session;
+    std::string m_recordKernel = "methods/pt/pt_record";
 };
 
 glm::dvec3 dv(const glm::vec4& v) {
@@ -754,6 +786,61 @@ TEST_F(ErptDensities, CausticRadiusMixtureDetailedBalance) {
                 valid, n, differing, worst);
     EXPECT_GT(valid, int(n) / 10);
     EXPECT_GT(differing, 0);
+}
+
+// The caustic Gamma at a point light head (no |cos_g| there: its measure is a delta in
+// position, path_space.glsl) against central differences: the head's position moved in the plane
+// normal to its direction x_h -> x_h-1 and that direction turned, the specular chain retraced
+// (erpt_density_test.comp mode 2), as JacobiansMatchFiniteDifferences does at area lights.
+// Only paths E D L have a point light head: light sampling, the one way a path tracer reaches a
+// delta light, starts at a non-specular vertex, so no seed path (and no path a mutation makes of
+// one, the types being kept) is L S+ D E with L a point light.
+TEST_F(ErptDensities, CausticGammaAtPointLightsMatchesFiniteDifferences) {
+    useScene(cornellGlassWithPointLight());
+    std::vector<ChainPath> paths;
+    for (const ChainPath& p : recordPaths(4)) {
+        if (p.head == 0 || !(p.vertices[p.head].flags & gpu::VERTEX_PUNCTUAL)) continue;
+        EXPECT_EQ(p.head, 1u) << "a point light reached through a specular chain";
+        if (paths.size() < 128) paths.push_back(p);
+    }
+    ASSERT_GE(paths.size(), 64u) << "the point light should light the walls";
+    const uint32_t n = uint32_t(paths.size());
+    std::vector<gpu::ChainVertex> packed(size_t(n) * 2 * kMaxVertices);
+    std::vector<glm::uvec2> info(n);
+    for (uint32_t j = 0; j < n; ++j) {
+        std::copy(paths[j].vertices.begin(), paths[j].vertices.end(),
+                  packed.begin() + size_t(j) * 2 * kMaxVertices);
+        info[j] = {uint32_t(paths[j].vertices.size()), paths[j].head};
+    }
+    auto chain = storage(packed, "paths");
+    const float extent = glm::length(m_scene->boundsMax - m_scene->boundsMin);
+    DensityPush push{};
+    push.mode = 2;
+    push.count = n;
+    std::vector<Jacobians> at[2];
+    for (int s = 0; s < 2; ++s) {
+        push.eps = extent * (s == 0 ? 2e-4f : 1e-4f);
+        push.epsAngle = (s == 0 ? 2e-4f : 1e-4f);
+        const auto r = call(push, size_t(64) * n, chain, {}, info);
+        for (uint32_t j = 0; j < n; ++j) at[s].push_back(jacobians(r, size_t(64) * j, true));
+    }
+    int checked = 0;
+    double worst = 0.0;
+    for (uint32_t j = 0; j < n; ++j) {
+        const Jacobians& a = at[0][j];
+        const Jacobians& b = at[1][j];
+        if (!(a.causticValid && b.causticValid && b.cosS12 > 0.05) ||
+            std::abs(a.causticFd - b.causticFd) > 0.003 * std::max(a.causticFd, b.causticFd))
+            continue;
+        ++checked;
+        const double ratio = b.causticGamma / b.cosS12 / b.causticFd;
+        worst = std::max(worst, std::abs(ratio - 1.0));
+        EXPECT_NEAR(ratio, 1.0, 0.025) << "causticGamma / |cos_s(x1 -> x2)| at a point light, path "
+                                       << j << " (head " << paths[j].head << ")";
+    }
+    std::printf("  checked %d caustic Gamma at a point light (worst %.2e) of %u paths\n", checked,
+                worst, n);
+    EXPECT_GE(checked, int(n) / 2);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "methods/energy_redistribution/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
+#include "scene/environment.h"
 #include "vk/command_batch.h"
 
 namespace pmcr::test {
@@ -128,6 +129,95 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
         ASSERT_EQ(std::memcmp(&verts[recs[i].firstVertex], &verts7[recs[i].firstVertex],
                               recs[i].vertexCount * sizeof(gpu::PathVertex)), 0) << "record " << i;
     }
+}
+
+// With punctual lights and an environment (the _all_lights kernels): recording still keeps the
+// estimate bit for bit, light samples of every kind are recorded (a punctual light's index, the
+// environment's direction), rays that escape to the environment end the record with one vertex
+// that is not a surface (shared/path_types.h), and the contributions still sum to the radiance.
+TEST_F(PathRecords, OtherLightsAreRecordedAsSeedPaths) {
+    Scene scene = testScene("scenes/cornell-glass.glb");
+    const glm::vec3 size = scene.boundsMax - scene.boundsMin;
+    gpu::PunctualLight point{};
+    point.type = gpu::PUNCTUAL_POINT;
+    point.position = scene.boundsMin + size * glm::vec3(0.3f, 0.85f, 0.55f);
+    point.direction = glm::vec3(0, -1, 0);
+    point.intensity = glm::vec3(glm::dot(size, size));
+    scene.punctualLights = {point};
+    scene.environment = loadEnvironment({"0.5,0.7,0.9"});
+    scene.path = "cornell-glass-other-lights.glb";
+    finalizeScene(scene);
+    RenderSettings settings;
+    settings.width = 32;
+    settings.height = 32;
+    RenderSession session(context(), scene, settings, 32, 32);
+    const uint32_t pixels = 32 * 32;
+    vk::Kernel pt(session.layout(), "methods/pt/pt_all_lights");
+    vk::Kernel ptRecord(session.layout(), "methods/pt/pt_record_all_lights");
+    Film& film = session.film();
+    pmcr::PathRecords paths(context(), pixels, "test path");
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "record work");
+    paths.bindTracer(work, session, session.placeholder());
+    gpu::PtPush push{};
+    push.source = gpu::PT_SOURCE_TILE;
+    push.flags = gpu::PT_FLAG_DEPOSIT;
+    push.invocationCount = pixels;
+    push.samplesPerPixel = 1;
+    push.sampleBase = 5;
+    push.seed = 13;
+    push.maxDepth = 8;
+    push.rrDepth = 3;
+    push.itemsPerInvocation = 1;
+    auto renderWith = [&](const vk::Kernel& kernel) {
+        film.clear();
+        vk::CommandBatch batch(session.layout());
+        batch.bind(session.scene().descriptorSet());
+        batch.bind(work);
+        batch.dispatch(kernel, push, pixels);
+        batch.submitAndWait();
+        return film.download();
+    };
+    auto plain = renderWith(pt);
+    auto recorded = renderWith(ptRecord);
+    for (uint32_t i = 0; i < pixels; ++i) ASSERT_EQ(plain[i].sum, recorded[i].sum) << "pixel " << i;
+
+    auto recs = paths.records().download<gpu::PathRecord>(pixels);
+    auto verts = paths.vertices().download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
+    int sampledPunctual = 0, sampledEnvironment = 0, escaped = 0;
+    for (uint32_t i = 0; i < pixels; ++i) {
+        const gpu::PathRecord& r = recs[i];
+        glm::vec3 sum(0.0f);
+        for (uint32_t k = 0; k < r.vertexCount; ++k) {
+            const gpu::PathVertex& v = verts[r.firstVertex + k];
+            if (v.flags & gpu::VERTEX_ENVIRONMENT) {
+                ++escaped;
+                ASSERT_EQ(k + 1, r.vertexCount) << "the environment ends a record";
+                ASSERT_TRUE(v.flags & gpu::VERTEX_EMITTER);
+            } else {
+                ASSERT_TRUE(onTriangle(scene, v.triangle, v.position)) << "record " << i << " vertex " << k;
+            }
+            if (v.flags & gpu::VERTEX_SAMPLED_PUNCTUAL) {
+                ++sampledPunctual;
+                ASSERT_TRUE(v.flags & gpu::VERTEX_HAS_LIGHT_SAMPLE);
+                ASSERT_EQ(v.lightTriangle, 0u);
+            }
+            if (v.flags & gpu::VERTEX_SAMPLED_ENVIRONMENT) {
+                ++sampledEnvironment;
+                ASSERT_TRUE(v.flags & gpu::VERTEX_HAS_LIGHT_SAMPLE);
+                ASSERT_LE(std::abs(v.lightB1) + std::abs(v.lightB2), 1.0f + 1e-6f);  // octahedral
+            }
+            sum += v.explicitContribution + v.implicitContribution;
+        }
+        const float tolerance = 1e-5f * std::max(1.0f, glm::length(r.radiance));
+        ASSERT_NEAR(sum.x, r.radiance.x, tolerance) << "record " << i;
+        ASSERT_NEAR(sum.y, r.radiance.y, tolerance);
+        ASSERT_NEAR(sum.z, r.radiance.z, tolerance);
+    }
+    std::printf("  %d punctual and %d environment light samples, %d escaped rays recorded\n",
+                sampledPunctual, sampledEnvironment, escaped);
+    EXPECT_GT(sampledPunctual, int(pixels) / 8);
+    EXPECT_GT(sampledEnvironment, 0);
+    EXPECT_GT(escaped, 0);
 }
 
 }  // namespace

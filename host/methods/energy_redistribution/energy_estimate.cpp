@@ -10,7 +10,7 @@ namespace pmcr {
 double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
     const RenderSettings& s = session.settings();
     Film film(session.context(), session.width(), session.height());
-    const vk::Kernel& kernel = session.kernel("methods/pt/pt");
+    const vk::Kernel& kernel = session.kernel(pathTracingKernel(session.scene(), "pt"));
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "energy pre-pass");
     bindTileWork(work, film, session);
     gpu::PtPush push{};

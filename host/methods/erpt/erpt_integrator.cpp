@@ -98,11 +98,15 @@ RenderOutput Erpt::render(RenderSession& session) {
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
     // Build the pipelines before the clock starts (compilation is not rendering).
-    const vk::Kernel& recordKernel = session.kernel("methods/pt/pt_record");
+    // Each kernel in the variant for the scene's lights (punctual lights, an environment).
+    auto kernel = [&](const std::string& path) -> const vk::Kernel& {
+        return session.kernel(lightsKernelVariant(session.scene(), path));
+    };
+    const vk::Kernel& recordKernel = kernel("methods/pt/pt_record");
     const vk::Kernel& countKernel = session.kernel("methods/erpt/erpt_count");
-    const vk::Kernel& seedKernel = session.kernel("methods/erpt/erpt_seed");
-    const vk::Kernel& chainKernel = session.kernel("methods/erpt/erpt_chains");
-    session.kernel("methods/pt/pt");  // the pre-pass
+    const vk::Kernel& seedKernel = kernel("methods/erpt/erpt_seed");
+    const vk::Kernel& chainKernel = kernel("methods/erpt/erpt_chains");
+    session.kernel(pathTracingKernel(session.scene(), "pt"));  // the pre-pass
     session.startClock();
 
     // e_d = e_ave / k (ERPT eq. 7).
@@ -299,7 +303,7 @@ MethodInfo erptMethod() {
          {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
          {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
          {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
-        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, "", /*areaLightsOnly=*/true};
+        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""};
 }
 
 }  // namespace pmcr

@@ -134,11 +134,15 @@ RenderOutput PmcEr::render(RenderSession& session) {
         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                    : std::max<uint32_t>(1, uint32_t(std::lround(double(kDefaultSpp) * pixels / double(poolPerPass))));
 
-    const vk::Kernel& recordKernel = session.kernel("methods/pt/pt_record");
-    const vk::Kernel& seedKernel = session.kernel("methods/pmc_er/pmc_er_seed");
-    const vk::Kernel& mutateKernel = session.kernel("methods/pmc_er/pmc_er_mutate");
+    // Each kernel in the variant for the scene's lights (punctual lights, an environment).
+    auto kernel = [&](const std::string& path) -> const vk::Kernel& {
+        return session.kernel(lightsKernelVariant(session.scene(), path));
+    };
+    const vk::Kernel& recordKernel = kernel("methods/pt/pt_record");
+    const vk::Kernel& seedKernel = kernel("methods/pmc_er/pmc_er_seed");
+    const vk::Kernel& mutateKernel = kernel("methods/pmc_er/pmc_er_mutate");
     const vk::Kernel& finishKernel = session.kernel("methods/pmc_er/pmc_er_finish");
-    session.kernel("methods/pt/pt");  // the pre-pass
+    session.kernel(pathTracingKernel(session.scene(), "pt"));  // the pre-pass
     session.startClock();
 
     // e_d = E~ / (T N M) (PMC-ER eq. 4), E~ = P x mean pixel luminance (eq. 2-3).
@@ -498,7 +502,7 @@ MethodInfo pmcErMethod() {
          {"prepass-spp", "4", "path-traced samples per pixel estimating the image energy"},
          {"steps-per-dispatch", "4", "mutations per member per dispatch"},
          {"birth", "equal", "equal: every member starts with the mean path energy Q and floor(U + E/Q) shares; path: the paper's E_remain = E", true}},
-        [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, "", /*areaLightsOnly=*/true};
+        [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, ""};
 }
 
 }  // namespace pmcr

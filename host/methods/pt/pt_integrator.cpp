@@ -44,9 +44,13 @@ void bindTileWork(vk::DescriptorSet& work, const Film& film, const RenderSession
     work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
 }
 
-std::string pathTracingKernel(const GpuScene& scene, const std::string& name) {
+std::string lightsKernelVariant(const GpuScene& scene, const std::string& path) {
     const bool otherLights = scene.info().envKind != gpu::ENV_NONE || scene.info().punctualCount > 0;
-    return "methods/pt/" + name + (otherLights ? "_all_lights" : "");
+    return path + (otherLights ? "_all_lights" : "");
+}
+
+std::string pathTracingKernel(const GpuScene& scene, const std::string& name) {
+    return lightsKernelVariant(scene, "methods/pt/" + name);
 }
 
 RenderOutput PathTracer::render(RenderSession& session) {

@@ -31,6 +31,11 @@ uint32_t ptItemsPerInvocation(const vk::Context& context, uint32_t items,
 // kernel costs there, taken or not).
 std::string pathTracingKernel(const GpuScene& scene, const std::string& name);
 
+// Kernel `path` (under shaders/, without .comp), or its variant PATH_all_lights compiled with
+// PMCR_OTHER_LIGHTS when `scene` has punctual lights or an environment: the choice
+// pathTracingKernel makes, for every kernel that comes in the two variants.
+std::string lightsKernelVariant(const GpuScene& scene, const std::string& path);
+
 class PathTracer : public Integrator {
 public:
     enum class Mode { Full, Direct, PmcHi };

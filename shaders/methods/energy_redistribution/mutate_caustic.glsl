@@ -18,14 +18,39 @@
 #include "methods/energy_redistribution/mutation.glsl"
 
 // Index of the head x_h: the first non-specular vertex after x1. Returns 0 when the caustic
-// perturbation does not apply (x1 specular or an emitter, or a path of one vertex).
+// perturbation does not apply (x1 specular or an emitter, or a path of one vertex), and when the
+// head is a direction (the environment, a directional light): turning "the direction leaving
+// the head" is then meaningless. A direction vertex is the whole beam of parallel rays arriving
+// along w; which surface point x_h-1 they hit is a position on x_h-1's surface, not a function
+// of w, and perturbing w alone leaves x_h-1 where it is (the specular chain could not move
+// towards a new x1). A correct proposal would perturb x_h-1's position in area measure with
+// the direction held fixed (a different mutation, not the caustic one). So such paths get no
+// caustic proposals: in the ERPT and mix modes they take the lens perturbation, in caustic-only
+// mode they stay put (a proposal that always returns the current state is in detailed balance
+// with any target). Deciding by the light vertex's kind keeps the choice of mutation a function
+// of the path's type, which no perturbation changes.
 uint causticHead(uint base, uint k) {
     if (k < 2u) return 0u;
     ChainVertex x1 = chainVertices[base];
     if (vertexSpecular(x1) || vertexEmitter(x1)) return 0u;
-    for (uint i = 1u; i < k; ++i)
-        if (!vertexSpecular(chainVertices[base + i])) return i;
+    for (uint i = 1u; i < k; ++i) {
+        ChainVertex v = chainVertices[base + i];
+#ifdef PMCR_OTHER_LIGHTS
+        if (!vertexSpecular(v)) return vertexIsDirection(v) ? 0u : i;
+#else
+        if (!vertexSpecular(v)) return i;
+#endif
+    }
     return 0u;
+}
+
+// |cos_g| at the head x_h towards x_h-1 in the caustic Gamma: 1 at a point or spot light, whose
+// measure is a delta in position, not area (path_space.glsl).
+float headCosine(uint base, uint h, SurfacePoint head, vec3 towardsEye) {
+#ifdef PMCR_OTHER_LIGHTS
+    if (vertexPunctual(chainVertices[base + h])) return 1.0;
+#endif
+    return absCosGeometric(head, towardsEye);
 }
 
 // Gamma of the caustic measure (path_space.glsl) for the path at `base` with head h.
@@ -40,7 +65,7 @@ float causticGamma(uint base, uint h) {
     float cosG1 = absCosGeometric(x1, w12);
     if (cosG1 <= 0.0) return 0.0;
     float gamma = rasterDensity(x1) * abs(dot(sh1.frame.n, w12)) / cosG1 *
-                  absCosGeometric(head, normalize(beforeHead.position - head.position));
+                  headCosine(base, h, head, normalize(beforeHead.position - head.position));
     // Conservation of etendue through the chain, vertex by vertex. Free flight keeps
     // |cos_g| dA dw; a delta lobe about the shading normal n_s maps solid angle as
     // eta_in^2 |cos_s(in)| dw_in = eta_out^2 |cos_s(out)| dw_out at a fixed point (its dependence
@@ -114,6 +139,10 @@ bool mutateCaustic(uint xBase, uint yBase, uint k, vec3 throughputX, AngleSample
     float theta = sampleTheta(law, u.x);
     vec3 dir = rotateAround(center, theta, TWO_PI * u.y);
     vec3 origin = offsetRayOrigin(head.position, dot(dir, head.normal) > 0.0 ? head.normal : -head.normal);
+#ifdef PMCR_OTHER_LIGHTS
+    // A point light's position is not on a surface: its rays leave from it.
+    if (vertexPunctual(chainVertices[xBase + h])) origin = head.position;
+#endif
 
     // Retrace the chain from the head towards the eye: x_h-1 ... x1.
     SurfacePoint s;

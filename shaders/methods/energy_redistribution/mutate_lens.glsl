@@ -6,6 +6,11 @@
 //    caustic perturbation) and the next specular chain is traced to the next D vertex, and so on
 //    until two non-specular vertices follow each other ("E S* D (S+ D)* (D|L)").
 // A proposal that changes the type sequence, misses, is occluded or leaves the image is invalid.
+// Other lights (light_vertex.glsl, path_space.glsl): a reconnection to a punctual light or a
+// direction keeps the light vertex (a point light's position, the direction towards the
+// environment or a directional light); an eye subpath or specular chain that must reach the
+// light is traced, and it reaches the environment when it escapes (a new direction), a
+// punctual light never (invalid: a delta that no traced ray meets).
 // The proposal is symmetric in its parameters (disk, and symmetric angle laws), so
 // T(y->x) / T(x->y) = 1 and the acceptance compares F_nu (path_space.glsl).
 #ifndef PMCR_MUTATE_LENS_GLSL
@@ -37,6 +42,16 @@ bool mutateLens(uint xBase, uint yBase, uint k, vec2 raster, vec3 throughputX, f
     float gammaX = 1.0, gammaY = 1.0;
     for (uint i = 0u; i < k; ++i) {
         ChainVertex xv = chainVertices[xBase + i];
+#ifdef PMCR_OTHER_LIGHTS
+        if (vertexPunctual(xv) || vertexEnvironment(xv)) {
+            // The light vertex reached by tracing (E S* L or after a perturbed direction).
+            if (!vertexEnvironment(xv)) return false;
+            rays += 1u;
+            if (traceAny(origin, dir, FLOAT_MAX)) return false;
+            chainVertices[yBase + i] = makeChainVertex(xv.triangle, octEncode(dir), xv.flags);
+            break;
+        }
+#endif
         SurfacePoint s;
         vec2 b;
         if (!traceToSurface(origin, dir, rays, s, b)) return false;
@@ -56,13 +71,13 @@ bool mutateLens(uint xBase, uint yBase, uint k, vec2 raster, vec3 throughputX, f
         ChainVertex xNext = chainVertices[xBase + i + 1u];
         if (!vertexSpecular(xNext)) {
             // Reconnect to x_i+1 and keep the rest of the path.
-            SurfacePoint next = pathPoint(xBase, i + 1u);
-            if (!segmentVisible(s, next, rays)) return false;
+            SurfacePoint next = vertexPoint(xNext);
+            if (!vertexVisible(s, xNext, next, rays)) return false;
             copyVertices(xBase, yBase, i + 1u, k);
-            gammaY *= reconnectionFactor(s, -dir, next);
+            gammaY *= reconnectionFactorTo(s, -dir, xNext, next);
             SurfacePoint xi = pathPoint(xBase, i);
             vec3 xPrevious = i == 0u ? sceneInfo.cameraPosition : pathPoint(xBase, i - 1u).position;
-            gammaX *= reconnectionFactor(xi, normalize(xPrevious - xi.position), next);
+            gammaX *= reconnectionFactorTo(xi, normalize(xPrevious - xi.position), xNext, next);
             break;
         }
         // Perturb the direction leaving this D vertex around x's direction x_i -> x_i+1.

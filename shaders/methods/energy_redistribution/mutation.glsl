@@ -101,6 +101,23 @@ bool segmentVisible(SurfacePoint a, SurfacePoint b, inout uint rays) {
     return dist > 0.0 && !traceAny(origin, e / dist, dist * (1.0 - 1e-4));
 }
 
+// Unoccluded segment from surface point a to vertex bv at b: to a surface point, to a point
+// or spot light's position, or a ray along a direction that escapes the scene.
+bool vertexVisible(SurfacePoint a, ChainVertex bv, SurfacePoint b, inout uint rays) {
+#ifndef PMCR_OTHER_LIGHTS
+    return segmentVisible(a, b, rays);
+#else
+    if (!vertexIsDirection(bv) && !vertexPunctual(bv)) return segmentVisible(a, b, rays);
+    vec3 w = vertexIsDirection(bv) ? vertexDirection(bv) : b.position - a.position;
+    vec3 origin = offsetRayOrigin(a.position, dot(w, a.normal) > 0.0 ? a.normal : -a.normal);
+    rays += 1u;
+    if (vertexIsDirection(bv)) return !traceAny(origin, w, FLOAT_MAX);
+    vec3 e = b.position - origin;
+    float dist = length(e);
+    return dist > 0.0 && !traceAny(origin, e / dist, dist * (1.0 - 1e-4));
+#endif
+}
+
 // Copies vertices [from, to) of slot `src` into slot `dst` (the unchanged part of a path).
 void copyVertices(uint src, uint dst, uint from, uint to) {
     for (uint i = from; i < to; ++i) chainVertices[dst + i] = chainVertices[src + i];

@@ -2,7 +2,10 @@
 // A PathRecord (shared/path_types.h) of k eye vertices holds up to 2k light paths: for every
 // vertex x_j, the implicit path x1..x_j when x_j is an emitter hit, and the explicit path
 // x1..x_j y_j when light sampling connected x_j to y_j. Seed path s of a record is
-// (vertex j = s / 2, kind = s % 2: 0 implicit, 1 explicit).
+// (vertex j = s / 2, kind = s % 2: 0 implicit, 1 explicit). With punctual lights and the
+// environment (kernels compiled with PMCR_OTHER_LIGHTS), explicit connections to them and rays
+// that escape to the environment are seed paths too (shared/path_types.h), so the seeds carry
+// every term of the path tracer's estimate.
 #ifndef PMCR_SEED_PATHS_GLSL
 #define PMCR_SEED_PATHS_GLSL
 
@@ -45,14 +48,17 @@ ChainState chainFromSeedPath(uint chain, PathRecord rec, uint s) {
             flags = pv.flags & (VERTEX_SPECULAR | VERTEX_TRANSMISSION);
             if ((pv.flags & VERTEX_SPECULAR) != 0u) flags |= pv.lobe << CHAIN_LOBE_SHIFT;
         } else if (!explicitPath) {
-            flags = VERTEX_EMITTER;
+            flags = VERTEX_EMITTER | (pv.flags & VERTEX_ENVIRONMENT);
         }
         chainVertices[base + v] = makeChainVertex(pv.triangle, pv.barycentrics, flags);
     }
     uint k = j + 1u;
     if (explicitPath) {
         PathVertex pv = recordVertices[rec.firstVertex + j];
-        chainVertices[base + k] = makeChainVertex(pv.lightTriangle, vec2(pv.lightB1, pv.lightB2), VERTEX_EMITTER);
+        uint flags = VERTEX_EMITTER;
+        if ((pv.flags & VERTEX_SAMPLED_PUNCTUAL) != 0u) flags |= VERTEX_PUNCTUAL;
+        if ((pv.flags & VERTEX_SAMPLED_ENVIRONMENT) != 0u) flags |= VERTEX_ENVIRONMENT;
+        chainVertices[base + k] = makeChainVertex(pv.lightTriangle, vec2(pv.lightB1, pv.lightB2), flags);
         k += 1u;
     }
     ChainState st;

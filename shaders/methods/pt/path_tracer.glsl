@@ -13,6 +13,7 @@
 #include "common/camera.glsl"
 #include "common/environment.glsl"
 #include "common/lights.glsl"
+#include "common/octahedral.glsl"
 #include "common/sampler.glsl"
 #include "common/shading.glsl"
 
@@ -73,6 +74,8 @@ struct LightSampleFrom {
     ShadowRay ray;      // the segment that must be clear
     LightSample area;   // the emitter point (when from an emitter)
     bool delta;         // a punctual light: pdf is its selection probability, no MIS
+    bool environment;   // the environment (wi is the direction)
+    uint punctual;      // the punctual light's index (when delta)
 };
 
 // Next-event estimation's light sample, the light picked by uLight (with the probabilities
@@ -81,12 +84,15 @@ struct LightSampleFrom {
 LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint) {
     LightSampleFrom ls;
     ls.delta = false;
+    ls.environment = false;
+    ls.punctual = 0u;
     if (hasEnvironment() && uLight < sceneInfo.envSelectPmf) {
         EnvSample e = envSample(min(uLight / sceneInfo.envSelectPmf, ONE_MINUS_EPSILON), uLightPoint);
         ls.wi = e.wi;
         ls.Le = e.Le;
         ls.pdf = e.pdf * sceneInfo.envSelectPmf;
         ls.ray = ShadowRay(spawnOrigin(sh, e.wi), e.wi, FLOAT_MAX);
+        ls.environment = true;
         return ls;
     }
     float uPunctual = uLight - sceneInfo.envSelectPmf;
@@ -101,6 +107,7 @@ LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint)
                                         min(uPunctual / sceneInfo.punctualSelectPmf, ONE_MINUS_EPSILON));
         PunctualLight l = punctualLightAt(index);
         ls.delta = true;
+        ls.punctual = index;
         ls.pdf = uintBitsToFloat(texelFetch(punctualAliasTexels, int(index)).y) *
                  sceneInfo.punctualSelectPmf;
         if (l.type == PUNCTUAL_DIRECTIONAL) {
@@ -161,7 +168,26 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
                ) {
     light.valid = false;
     if (hit.triangle == BVH_NO_HIT) {
-        p.L += p.beta * escapedRadiance(p.dir, p.prevDelta, p.prevPdf);
+        vec3 contribution = p.beta * escapedRadiance(p.dir, p.prevDelta, p.prevPdf);
+        p.L += contribution;
+#ifdef PT_RECORD_PATHS
+        // The environment as one more vertex of the record (shared/path_types.h), when it adds.
+        pv.flags = maxComponent(contribution) > 0.0 ? VERTEX_ENVIRONMENT | VERTEX_EMITTER : 0u;
+        pv.position = vec3(0.0);
+        pv.triangle = 0u;
+        pv.normal = vec3(0.0);
+        pv.shadingNormal = vec3(0.0);
+        pv.material = 0u;
+        pv.barycentrics = octEncode(p.dir);
+        pv.pdfForward = 0.0;
+        pv.lobe = LOBE_NONE;
+        pv.lightPosition = vec3(0.0);
+        pv.lightTriangle = 0u;
+        pv.explicitContribution = vec3(0.0);
+        pv.lightB1 = 0.0;
+        pv.implicitContribution = contribution;
+        pv.lightB2 = 0.0;
+#endif
         return false;
     }
     SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
@@ -216,10 +242,21 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
                 light.contribution = p.beta * f * absCos * ls.Le * w / ls.pdf;
                 light.valid = true;
 #ifdef PT_RECORD_PATHS
-                pv.lightPosition = ls.area.point.position;
-                pv.lightTriangle = ls.area.point.triangle;
-                pv.lightB1 = ls.area.barycentrics.x;
-                pv.lightB2 = ls.area.barycentrics.y;
+                if (ls.environment) {
+                    // A direction, not a point (shared/path_types.h).
+                    vec2 e = octEncode(ls.wi);
+                    pv.flags |= VERTEX_SAMPLED_ENVIRONMENT;
+                    pv.lightB1 = e.x;
+                    pv.lightB2 = e.y;
+                } else if (ls.delta) {
+                    pv.flags |= VERTEX_SAMPLED_PUNCTUAL;
+                    pv.lightTriangle = ls.punctual;
+                } else {
+                    pv.lightPosition = ls.area.point.position;
+                    pv.lightTriangle = ls.area.point.triangle;
+                    pv.lightB1 = ls.area.barycentrics.x;
+                    pv.lightB2 = ls.area.barycentrics.y;
+                }
 #endif
             }
         }
@@ -289,6 +326,7 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
     }
 #ifdef PT_RECORD_PATHS
     if ((pv.flags & VERTEX_HAS_LIGHT_SAMPLE) == 0u) {  // a record keeps visible light samples only
+        pv.flags &= ~(VERTEX_SAMPLED_PUNCTUAL | VERTEX_SAMPLED_ENVIRONMENT);
         pv.lightPosition = vec3(0.0);
         pv.lightTriangle = 0u;
         pv.lightB1 = 0.0;
@@ -296,7 +334,7 @@ bool pathBounce(inout PathState p, inout Sampler smp, uint maxDepth, uint rrDept
     }
 #endif
 #ifdef PT_RECORD_PATHS
-    if (hitSurface) {
+    if (hitSurface || (pv.flags & VERTEX_ENVIRONMENT) != 0u) {
         pathVertices[p.firstVertex + p.vertexCount] = pv;
         p.vertexCount += 1u;
     }

@@ -1,15 +1,5 @@
 #version 460
-// Path tracing that also writes each sample's path record (ERPT and PMC-ER seeds).
+// pt_record for scenes lit by emitters alone (pt_record_kernel.glsl).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
-#include "shared/host_device.h"
-#define PT_RECORD_PATHS
-layout(local_size_x = WORKGROUP_SIZE) in;
-layout(push_constant, scalar) uniform PushBlock { PtPush push; };
-
-#include "common/film.glsl"
-#include "methods/pt/path_tracer.glsl"
-
-// Paths in turn from pathBegin / pathBounce / pathEnd (camera_sample_kernel.glsl).
-#define CAMERA_SAMPLE_PATH_STATES
-#include "methods/pt/camera_sample_kernel.glsl"
+#include "methods/pt/pt_record_kernel.glsl"

@@ -1,0 +1,143 @@
+// Every method that takes punctual lights and the environment is unbiased with them: per-pixel
+// z-tests (Mitsuba style, Sidak-corrected, at least 99.75% of pixels pass) of pt, direct, erpt
+// and pmc-er against path tracing with many samples, on cornell-glass (a glass sphere: caustic
+// paths through it, so both of ERPT's perturbations run) with
+//  (i)  a point and a spot light beside its area light: light vertices with a position, which
+//       the lens perturbation reconnects to and the caustic perturbation starts from;
+//  (ii) an environment image and a directional light shining in through the open front: light
+//       vertices that are directions, which the lens perturbation keeps or retraces and the
+//       caustic perturbation leaves alone (shaders/methods/energy_redistribution/*.glsl).
+// (pmc-hi still refuses such scenes: host/methods/pmc_hi, not this test's.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "gpu_test.h"
+#include "render_test.h"
+#include "scene/environment.h"
+#include "statistics.h"
+
+namespace pmcr::test {
+namespace {
+
+class ErLights : public GpuTest {};
+
+gpu::PunctualLight punctualLight(uint32_t type, glm::vec3 position, glm::vec3 direction,
+                                 glm::vec3 intensity, float inner = 0.0f, float outer = 0.0f) {
+    gpu::PunctualLight l{};
+    l.type = type;
+    l.position = position;
+    l.direction = glm::normalize(direction);
+    l.intensity = intensity;
+    l.cosInner = std::cos(inner);
+    l.cosOuter = std::cos(outer);
+    return l;
+}
+
+// cornell-glass with a point light near the ceiling and a spot light aimed at the sphere's side.
+Scene withPointLights() {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    const glm::vec3 lo = s.boundsMin, hi = s.boundsMax, size = hi - lo;
+    const float scale = glm::dot(size, size);  // intensities in proportion to the box's size^2
+    s.punctualLights = {
+        punctualLight(gpu::PUNCTUAL_POINT, lo + size * glm::vec3(0.25f, 0.8f, 0.6f), {0, -1, 0},
+                      glm::vec3(0.6f, 0.5f, 0.4f) * scale * 0.05f),
+        punctualLight(gpu::PUNCTUAL_SPOT, lo + size * glm::vec3(0.8f, 0.7f, 0.3f), {-0.5f, -1.0f, 0.3f},
+                      glm::vec3(0.3f, 0.4f, 0.6f) * scale * 0.08f, 0.3f, 0.7f)};
+    s.path = "cornell-glass-point-lights.glb";
+    finalizeScene(s);
+    return s;
+}
+
+// A random sky with a sun (16 x 8 pixels, as test_environment_render.cpp's).
+Environment randomSky() {
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Environment env;
+    env.source = "random-sky.exr";
+    env.kind = gpu::ENV_IMAGE;
+    env.image = Image(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            env.image.set(x, y, glm::vec3(u(rng), u(rng), u(rng)) * 2.0f);
+    env.image.set(7, 3, glm::vec3(8.0f, 7.0f, 6.0f));  // a sun (brighter ones make heavy tails)
+    env.scale = 1.0f;
+    env.rotation = 0.3f;
+    return env;
+}
+
+// cornell-glass under the sky and a directional light along the camera's view, tilted down.
+Scene withSkyAndSun() {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    const glm::vec3 forward = s.cameras[0].forward, up = s.cameras[0].up;
+    s.environment = randomSky();
+    s.punctualLights = {punctualLight(gpu::PUNCTUAL_DIRECTIONAL, {}, forward - 0.4f * up + 0.2f * s.cameras[0].right,
+                                      {1.5f, 1.4f, 1.2f})};
+    s.path = "cornell-glass-sky.glb";
+    finalizeScene(s);
+    return s;
+}
+
+RenderSettings settingsFor(const std::string& method, uint32_t spp) {
+    RenderSettings s;
+    s.method = method;
+    s.width = 20;
+    s.height = 20;
+    s.spp = spp;
+    s.maxDepth = 8;
+    if (method == "erpt") {
+        s.options["chain-length"] = "20";
+        s.options["mutations-per-pixel"] = "4";
+        s.options["mutation"] = "mix";  // the caustic perturbation on every path it applies to
+        // Direct light redistributed too, and lens moves of 8 pixels: the paths E D L reconnect
+        // to the light vertex, and far enough for its factor to matter. (Measured: dropping the
+        // 1 / d^2 of the reconnection to a point light fails 18 of 400 pixels so, none with
+        // the defaults, whose moves barely change d.)
+        s.options["redistribute"] = "all";
+        s.options["lens-radius"] = "8";
+    } else if (method == "pmc-er") {
+        s.options["population"] = "400";
+        s.options["mutations"] = "4";
+    }
+    return s;
+}
+
+// `renders` path-traced renders of 64 samples (maxDepth 1 for direct, which estimates direct
+// light only): the reference.
+ImageMoments reference(const Scene& scene, uint32_t maxDepth, int renders) {
+    RenderSettings pt = settingsFor("pt", 64);
+    pt.maxDepth = maxDepth;
+    return renderMoments(scene, pt, renders, 5000);
+}
+
+// The z-test of `renders` renders of `s` against `reference`.
+void expectUnbiased(const Scene& scene, const RenderSettings& s, int renders,
+                    const ImageMoments& reference) {
+    const PixelTestResult r = zTestRenders(scene, s, renders, 1000, reference);
+    EXPECT_GE(r.passFraction, 0.9975) << s.method << ": " << r.describe();
+    std::printf("  %s: %s\n", s.method.c_str(), r.describe().c_str());
+}
+
+// Every method that takes the scene's lights, each against the reference of its depth.
+void expectAllUnbiased(const Scene& scene) {
+    const ImageMoments full = reference(scene, 8, 16);
+    // Under the sky, pixels whose light comes from rare events (grazing reflections off the
+    // glass that escape) make the per-pixel estimates heavy-tailed: pixel 334's green was 0 in all
+    // 256 samples of 16 direct renders of 16 spp, 0.002 in 16 renders of 32, 0.011 and 0.013 in
+    // single renders of 1024 and 2048, 0.026 in the 16 references. At depth 1 pt and direct are
+    // the same estimator (bit for bit with the same seed), so their failures there are such
+    // flukes, not bias: with these settings pt fails no pixel and direct that one (the 0.25%
+    // the test allows); with 48 references direct failed 2 (pixel 28, on the light's edge, too).
+    expectUnbiased(scene, settingsFor("pt", 32), 16, full);
+    expectUnbiased(scene, settingsFor("direct", 32), 16, reference(scene, 1, 16));
+    expectUnbiased(scene, settingsFor("erpt", 16), 40, full);
+    expectUnbiased(scene, settingsFor("pmc-er", 16), 40, full);
+}
+
+TEST_F(ErLights, PointAndSpotLights) { expectAllUnbiased(withPointLights()); }
+
+TEST_F(ErLights, EnvironmentAndDirectionalLight) { expectAllUnbiased(withSkyAndSun()); }
+
+}  // namespace
+}  // namespace pmcr::test
