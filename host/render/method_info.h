@@ -31,7 +31,7 @@ struct MethodInfo {
     std::function<std::unique_ptr<Integrator>(const RenderSettings&)> create;
     std::string plannedIn;
     // Renders emissive triangles only: refuses a scene with an environment or punctual lights
-    // (its mutations or light mixture are written for emitter triangles; issue 22).
+    // (its mutations are written for emitter triangles; issue 22).
     bool areaLightsOnly = false;
 };
 

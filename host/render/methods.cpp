@@ -51,7 +51,7 @@ void checkMethodLights(const std::string& method, const Scene& scene) {
                                                                : nullptr;
     if (what)
         fail(scene.path.string(), method + " renders emissive triangles only, not " + what +
-                                      " (use pt, direct, pmc-ip, pmc-ip-direct or pmc-pt)");
+                                      " (use pt, direct, pmc-hi, pmc-ip, pmc-ip-direct, pmc-ip-hi or pmc-pt)");
 }
 
 }  // namespace pmcr

@@ -81,6 +81,5 @@ expect_error "environment not an image" "sky\.png.*--env expects" -- render "$sr
 expect_error "negative environment" "1,-1,1.*>= 0" -- render "$src/scenes/furnace.glb" --env 1,-1,1 -o "$tmp/out/x.exr"
 expect_error "rotation without environment" "--env-rotate.*need --env" -- render "$src/scenes/furnace.glb" --env-rotate 30 -o "$tmp/out/x.exr"
 expect_error "environment with erpt" "furnace\.glb.*erpt renders emissive triangles only" -- render "$src/scenes/furnace.glb" --method erpt --env 1,1,1 -o "$tmp/out/x.exr"
-expect_error "environment with pmc-hi" "furnace\.glb.*pmc-hi renders emissive triangles only" -- render "$src/scenes/furnace.glb" --method pmc-hi --env 1,1,1 -o "$tmp/out/x.exr"
 
 [ $failures -eq 0 ] || { echo "$failures failure(s)"; exit 1; }
