@@ -101,7 +101,7 @@ gpu::PmcHiTestSetup mixture(bool shared) {
     setup.params.populationPerComponent = 2;
     setup.params.iterations = 2;
     setup.params.flags = gpu::PMC_HI_FLAG_RAO_BLACKWELL;
-    if (shared) setup.params.flags |= gpu::PMC_HI_FLAG_SHARED_LIGHT;
+    setup.params.sharedLight = shared ? 1u : 0u;
     setup.params.lightComponents = shared ? 1u : 2u;
     if (shared) {
         setup.alpha[gpu::PMC_HI_BSDF] = 0.4f;

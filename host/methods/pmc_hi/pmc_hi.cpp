@@ -1,5 +1,6 @@
 #include "methods/pmc_hi/pmc_hi.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.h"
@@ -13,7 +14,8 @@ std::vector<MethodOption> pmcHiMethodOptions() {
          "the first iteration's population per component (same: --population-per-component)"},
         {"iterations", "2", "PMC iterations per direct-lighting estimate"},
         {"cone-initial", "0.2", "cone weight after the first iteration (the others scaled by 1 - it)"},
-        {"max-light-components", "4", "one component per light up to this many lights, else one for all"},
+        {"max-light-components", "4",
+         "one component per light up to this many lights (at most 8; 7 with an environment), else one for all"},
         {"alpha-floor", "0.05", "defensive floor of the BSDF and light weights (keeps it unbiased)"},
         {"adapt-rate", "1",
          "how far each iteration moves the weights to eq. 9's (1: all the way, the paper)"},
@@ -72,13 +74,15 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
 
 gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene) {
     gpu::PmcHiParams p = options.params;
-    const uint32_t lights = uint32_t(scene.lightGroups().lights.size());
-    const bool shared = lights > options.maxLightComponents;
-    if (shared) p.flags |= gpu::PMC_HI_FLAG_SHARED_LIGHT;
-    p.lightComponents = shared ? 1u : lights;
-    // The environment's slot follows the lights' (pmc_hi_types.h); punctual lights take none.
+    // The environment's slot follows the lights' and takes one of theirs (pmc_hi_types.h);
+    // punctual lights take none.
     const bool environment = scene.info().envKind != gpu::ENV_NONE;
     if (environment) p.flags |= gpu::PMC_HI_FLAG_ENVIRONMENT;
+    const uint32_t lights = uint32_t(scene.lightGroups().lights.size());
+    const uint32_t maxLights = std::min(options.maxLightComponents, gpu::PMC_HI_MAX_LIGHTS - (environment ? 1u : 0u));
+    const bool shared = lights > maxLights;
+    p.sharedLight = shared ? 1u : 0u;
+    p.lightComponents = shared ? 1u : lights;
     if (!options.initialAlpha.empty()) {
         // The BSDF's weight, then one per light component (slots PMC_HI_BSDF, PMC_HI_LIGHT + l),
         // then the environment's.
@@ -114,11 +118,11 @@ std::string pmcHiKernel(const GpuScene& scene) {
 void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const GpuScene& scene,
                      const std::vector<float>& alphaSums, int width, int height) {
     const uint32_t components = pmcHiComponents(params);
-    const bool shared = (params.flags & gpu::PMC_HI_FLAG_SHARED_LIGHT) != 0u;
+    const bool shared = params.sharedLight != 0u;
     const bool environment = (params.flags & gpu::PMC_HI_FLAG_ENVIRONMENT) != 0u;
     out.methodStats["lights"] = scene.lightGroups().lights.size();
     out.methodStats["light_components"] = params.lightComponents;
-    out.methodStats["shared_light_component"] = shared ? 1u : 0u;
+    out.methodStats["shared_light_component"] = params.sharedLight;
     out.methodStats["environment_component"] = environment;
     out.methodStats["punctual_lights"] = scene.info().punctualCount;
     out.methodStats["population"] = params.populationPerComponent * components;

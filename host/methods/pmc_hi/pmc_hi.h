@@ -17,7 +17,7 @@
 namespace pmcr {
 
 struct PmcHiOptions {
-    gpu::PmcHiParams params{};  // lightComponents and the light flags: see pmcHiParamsForScene
+    gpu::PmcHiParams params{};  // lightComponents, sharedLight, the environment: see pmcHiParamsForScene
     uint32_t maxLightComponents = 4;
     std::vector<double> initialAlpha;  // --initial-alpha: empty for the paper's
 };

@@ -116,7 +116,7 @@ float pmcHiConePdf(vec3 axis, float oneMinusCos, vec3 w) {
 // The light group that light component `light` samples: the light itself, or with one shared
 // light component the group of all emitters, which follows the lights (host/scene/scene.h).
 uint pmcHiLightGroup(PmcHiParams p, uint light) {
-    return (p.flags & PMC_HI_FLAG_SHARED_LIGHT) != 0u ? sceneInfo.lightCount : light;
+    return p.sharedLight != 0u ? sceneInfo.lightCount : light;
 }
 
 // Solid-angle density, seen from `from`, with which a light component samples the direction to
@@ -125,7 +125,7 @@ float pmcHiLightDensity(PmcHiParams p, vec3 from, SurfacePoint l, out uint slot)
     slot = PMC_HI_MAX_COMPONENTS;
     uint light = triangleLights[l.triangle];
     if (light == LIGHT_NONE) return 0.0;
-    slot = PMC_HI_LIGHT + ((p.flags & PMC_HI_FLAG_SHARED_LIGHT) != 0u ? 0u : light);
+    slot = PMC_HI_LIGHT + (p.sharedLight != 0u ? 0u : light);
     float pdfArea = lightGroupAreaPdf(pmcHiLightGroup(p, light), l.triangle);
     return areaToSolidAngle(pdfArea, from, l.position, l.normal);
 }
@@ -316,7 +316,7 @@ Sampler pmcHiStream(Sampler smp, uint t, uint k, uint j) {
 // feedback weights do.
 float pmcHiInitialWeight(PmcHiParams p, uint k) {
     if ((p.flags & PMC_HI_FLAG_INITIAL_ALPHA) != 0u) return max(p.initialAlpha[k], p.alphaFloor);
-    if (k == PMC_HI_BSDF || (p.flags & PMC_HI_FLAG_SHARED_LIGHT) != 0u) return 1.0;
+    if (k == PMC_HI_BSDF || p.sharedLight != 0u) return 1.0;
     const bool env = pmcHiHasEnvironment(p);
     // The emitters' part of the lights' share (1 without an environment).
     float emitters = 1.0;
