@@ -218,7 +218,6 @@ BenchReport prepareBench(const Scene& scene, const BenchOptions& options) {
         s.method = m.method;
         s.options = m.options;
         validateMethodOptions(s);
-        checkMethodLights(s.method, scene);
         info->create(s);
     }
     report.width = base.width;

@@ -73,7 +73,6 @@ int runRender(const RenderCommand& command) {
     OutputPaths paths = resolveOutputPaths(command.scene, command.output, command.png,
                                            command.noPng, command.exposure);
     Scene scene = loadScene(command.scene, command.environment);
-    checkMethodLights(settings.method, scene);
     resolveImageSize(scene, settings);
 
     vk::ContextOptions options;

@@ -30,9 +30,6 @@ struct MethodInfo {
     // touches no device: `pmcr bench` creates each method once to check its options up front.
     std::function<std::unique_ptr<Integrator>(const RenderSettings&)> create;
     std::string plannedIn;
-    // Renders emissive triangles only: refuses a scene with an environment or punctual lights
-    // (its mutations or light mixture are written for emitter triangles; issue 22).
-    bool areaLightsOnly = false;
 };
 
 }  // namespace pmcr

@@ -43,15 +43,4 @@ void validateMethodOptions(const RenderSettings& settings) {
     }
 }
 
-void checkMethodLights(const std::string& method, const Scene& scene) {
-    const MethodInfo* info = findMethod(method);
-    if (!info || !info->areaLightsOnly) return;
-    const char* what = scene.environment.kind != gpu::ENV_NONE ? "an environment light (--env)"
-                       : !scene.punctualLights.empty()         ? "punctual lights (KHR_lights_punctual)"
-                                                               : nullptr;
-    if (what)
-        fail(scene.path.string(), method + " renders emissive triangles only, not " + what +
-                                      " (use pt, direct, pmc-ip, pmc-ip-direct, pmc-pt, erpt or pmc-er)");
-}
-
 }  // namespace pmcr

@@ -18,8 +18,4 @@ const MethodInfo* findMethod(const std::string& name);
 // option or an unimplemented method.
 void validateMethodOptions(const RenderSettings& settings);
 
-// Throws pmcr::Error naming the scene when `method` cannot render its lights (an environment or
-// punctual lights for a method that renders area lights only).
-void checkMethodLights(const std::string& method, const Scene& scene);
-
 }  // namespace pmcr

@@ -40,7 +40,6 @@ void resolveImageSize(const Scene& scene, RenderSettings& s) {
 
 RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings) {
     validateMethodOptions(settings);
-    checkMethodLights(settings.method, scene);
     const MethodInfo* method = findMethod(settings.method);
     auto integrator = method->create(settings);
     RenderSession session(context, scene, settings, settings.width, settings.height);

@@ -67,12 +67,16 @@ bool shadingSampleDirection(ShadingPoint sh, float uLobe, vec2 u, out BsdfSample
 // Beer-Lambert transmittance exp(-sigma_a d) of a segment of length `dist` along `dir` that
 // ends at s: a segment that reaches the back of a surface whose material absorbs
 // (KHR_materials_volume) ran inside that material's medium. Every method applies it where a
-// segment ends (path tracing, path evaluation of ERPT and PMC-ER), so they estimate the same
-// image. Shadow rays end on emitters, not in a medium's boundary, and take none.
+// segment ends on a surface (path tracing, PMC-HI's camera ray, path evaluation of ERPT and
+// PMC-ER), so they estimate the same image. An emitter's material never absorbs here: light
+// sampling reaches emitters by shadow rays, which take no transmittance, and BSDF sampling
+// must then score the same path alike.
 vec3 segmentTransmittance(SurfacePoint s, vec3 dir, float dist) {
     if (!sceneHasAbsorption()) return vec3(1.0);
     if (!(dot(s.normal, dir) > 0.0)) return vec3(1.0);
-    return exp(-materialAt(s.material).absorption * dist);
+    Material m = materialAt(s.material);
+    if (maxComponent(m.emission) > 0.0) return vec3(1.0);
+    return exp(-m.absorption * dist);
 }
 
 // Origin for a ray leaving the shading point in direction w.

@@ -5,10 +5,15 @@
 //           slots 0..11
 //   mode 1: component k drawn with probability alpha_k, then pmcHiDrawDirection:
 //           results[i] = (wi, 0 failed | 1 non-delta | 2 delta)
-//   mode 2: direction directions[i]: results[i] = (mixture density K, cone density, 0, 0), the
-//           light densities at the first hit of the ray from the shading point
+//   mode 2: direction directions[i]: results[i] = (mixture density K, cone density, the
+//           environment component's a_env envPdf when the ray hits a surface, 0), the light
+//           densities at the first hit of the ray from the shading point. K is the density of
+//           the directions that score; the environment's draws that hit a surface score 0, so
+//           what the mixture draws has the density K + the third value.
+// Compiled with the environment (PMCR_OTHER_LIGHTS): hasEnvironment() follows the bound scene.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
+#define PMCR_OTHER_LIGHTS
 #include "shared/host_device.h"
 
 #include "methods/pmc_hi/pmc_hi.glsl"
@@ -73,5 +78,7 @@ void main() {
     if (hitSomething) l = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
     float K = pmcHiDensity(setup.params, kern, s.position, wi, pdfBsdf, hitSomething, l,
                            PMC_HI_MAX_COMPONENTS);
-    results[i] = vec4(K, pmcHiConePdf(kern.coneAxis, kern.coneOneMinusCos, wi), 0.0, 0.0);
+    float envUnscored = hitSomething && pmcHiHasEnvironment(setup.params)
+                            ? kern.alpha[pmcHiEnvironmentSlot(setup.params)] * envPdf(wi) : 0.0;
+    results[i] = vec4(K, pmcHiConePdf(kern.coneAxis, kern.coneOneMinusCos, wi), envUnscored, 0.0);
 }

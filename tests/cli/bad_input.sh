@@ -80,7 +80,5 @@ expect_error "corrupt environment image" "sky\.exr" -- render "$src/scenes/furna
 expect_error "environment not an image" "sky\.png.*--env expects" -- render "$src/scenes/furnace.glb" --env "$tmp/sky.png" -o "$tmp/out/x.exr"
 expect_error "negative environment" "1,-1,1.*>= 0" -- render "$src/scenes/furnace.glb" --env 1,-1,1 -o "$tmp/out/x.exr"
 expect_error "rotation without environment" "--env-rotate.*need --env" -- render "$src/scenes/furnace.glb" --env-rotate 30 -o "$tmp/out/x.exr"
-expect_error "environment with pmc-ip-hi" "furnace\.glb.*pmc-ip-hi renders emissive triangles only" -- render "$src/scenes/furnace.glb" --method pmc-ip-hi --env 1,1,1 -o "$tmp/out/x.exr"
-expect_error "environment with pmc-hi" "furnace\.glb.*pmc-hi renders emissive triangles only" -- render "$src/scenes/furnace.glb" --method pmc-hi --env 1,1,1 -o "$tmp/out/x.exr"
 
 [ $failures -eq 0 ] || { echo "$failures failure(s)"; exit 1; }

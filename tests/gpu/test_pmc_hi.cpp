@@ -2,11 +2,12 @@
 // (counts sum to N, their mean is N alpha), the cone density integrating to 1, and the mixture
 // density K (eq. 7) equal to the density of what drawing a component by alpha and then a direction
 // from it produces (chi-square over the sphere at a fixed shading point lit by two lights, with one
-// component per light and with one shared).
+// component per light and with one shared, and under an environment image as one more component).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -59,9 +60,26 @@ std::vector<uint32_t> allocateReference(const float* alpha, uint32_t m, uint32_t
     return counts;
 }
 
+// A random 16 x 8 environment image with a bright pixel, rotated: its alias table is far from
+// uniform, so the environment component's density is put to the test.
+Environment testSky() {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Environment env;
+    env.source = "test-sky.exr";
+    env.kind = gpu::ENV_IMAGE;
+    env.image = Image(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            env.image.set(x, y, u(rng) < 0.2f ? glm::vec3(0.0f) : glm::vec3(u(rng), u(rng), u(rng)));
+    env.image.set(3, 2, glm::vec3(20.0f));
+    env.rotation = 0.7f;
+    return env;
+}
+
 // A glossy floor (Lambertian under a GGX coat) in z = 0 with the shading point at the origin,
-// and two lights facing down: a quad of two triangles and a single triangle.
-Scene twoLightScene() {
+// and two lights facing down: a quad of two triangles and a single triangle; `env` beside them.
+Scene twoLightScene(Environment env = {}) {
     Scene s;
     s.path = "pmc-hi-test.gltf";
     s.materials = {testMaterial(glm::vec3(0.0f), false, 0.5f), testMaterial(glm::vec3(1.0f), false, 1.0f),
@@ -73,6 +91,7 @@ Scene twoLightScene() {
     Camera camera;
     camera.position = glm::vec3(0, -5, 3);
     s.cameras.push_back(camera);
+    s.environment = std::move(env);
     finalizeScene(s);
     return s;
 }
@@ -102,6 +121,18 @@ gpu::PmcHiTestSetup mixture(bool shared) {
     setup.triangle = 0;
     // The origin: barycentrics of (0, 0, 0) in the floor triangle.
     setup.barycentrics = glm::vec2(0.25f, 0.5f);
+    return setup;
+}
+
+// One component per light and the environment's after them (slot PMC_HI_LIGHT + 2).
+gpu::PmcHiTestSetup mixtureWithEnvironment() {
+    gpu::PmcHiTestSetup setup = mixture(false);
+    setup.params.flags |= gpu::PMC_HI_FLAG_ENVIRONMENT;
+    setup.alpha[gpu::PMC_HI_BSDF] = 0.25f;
+    setup.alpha[gpu::PMC_HI_CONE] = 0.15f;
+    setup.alpha[gpu::PMC_HI_LIGHT] = 0.2f;
+    setup.alpha[gpu::PMC_HI_LIGHT + 1] = 0.15f;
+    setup.alpha[gpu::PMC_HI_LIGHT + 2] = 0.25f;
     return setup;
 }
 
@@ -140,7 +171,9 @@ protected:
         return out.download<glm::vec4>(size_t(n) * values);
     }
 
-    // The density (component `which` of mode 2's result) at a batch of directions.
+    // The density (component `which` of mode 2's result) at a batch of directions; `which` = -1:
+    // the density of what the mixture draws (K, plus the environment's draws that hit a surface
+    // and score 0).
     DensityBatch density(const GpuScene& scene, const gpu::PmcHiTestSetup& setup, int which) {
         return [this, &scene, setup, which](const std::vector<glm::vec3>& ws) {
             std::vector<glm::vec4> dirs(ws.size());
@@ -149,9 +182,35 @@ protected:
             const auto r = call(scene, setup, 2, uint32_t(ws.size()), 1, 0, dirs);
             std::vector<double> v(ws.size());
             for (size_t i = 0; i < ws.size(); ++i)
-                v[i] = r[i][which];
+                v[i] = which < 0 ? double(r[i][0]) + double(r[i][2]) : double(r[i][which]);
             return v;
         };
+    }
+
+    // Chi-square of n draws of `setup`'s mixture against the density of what it draws, and that
+    // density's integral against the share of draws that produced a direction.
+    void expectDrawsMatchDensity(const GpuScene& scene, const gpu::PmcHiTestSetup& setup, uint32_t seed,
+                                 const std::string& what) {
+        const uint32_t n = 1 << 20;
+        const auto r = call(scene, setup, 1, n, 1, seed);
+        std::vector<glm::dvec3> directions;
+        for (const glm::vec4& v : r) {
+            ASSERT_NE(v.w, 2.0f) << "no delta lobe in this material";
+            if (v.w == 1.0f) directions.push_back(glm::normalize(glm::dvec3(v)));
+        }
+        const SphereGrid grid(uniformBreaks(-1, 1, 32), uniformBreaks(0, 2 * kPi, 64));
+        const std::vector<double> integrals = midpointCells(grid, density(scene, setup, -1), 32);
+        double total = 0.0;
+        std::vector<double> expected(integrals.size());
+        for (size_t c = 0; c < integrals.size(); ++c) {
+            expected[c] = n * integrals[c];
+            total += integrals[c];
+        }
+        EXPECT_TRUE(chi2Passes(grid.histogram(directions), expected, what));
+        // K integrates to the share of draws that produced a direction (rough reflections
+        // below the surface fail and bsdfPdf leaves them out).
+        EXPECT_NEAR(total, double(directions.size()) / n, 4 * std::sqrt(double(directions.size())) / n + 1e-3)
+            << what;
     }
 };
 
@@ -221,30 +280,28 @@ TEST_F(PmcHiTest, MixtureDensityIsWhatTheMixtureDraws) {
     const Scene scene = twoLightScene();
     const GpuScene gpuScene(context(), layout(), scene, 0, 8, 8);
     ASSERT_EQ(gpuScene.lightGroups().lights.size(), 2u);
-    const uint32_t n = 1 << 20;
     uint32_t seed = 70;
-    for (bool shared : {false, true}) {
-        const std::string what = shared ? "PMC-HI mixture, shared light" : "PMC-HI mixture, two lights";
-        const gpu::PmcHiTestSetup setup = mixture(shared);
-        const auto r = call(gpuScene, setup, 1, n, 1, ++seed);
-        std::vector<glm::dvec3> directions;
-        for (const glm::vec4& v : r) {
-            ASSERT_NE(v.w, 2.0f) << "no delta lobe in this material";
-            if (v.w == 1.0f) directions.push_back(glm::normalize(glm::dvec3(v)));
-        }
-        const SphereGrid grid(uniformBreaks(-1, 1, 32), uniformBreaks(0, 2 * kPi, 64));
-        const std::vector<double> integrals = midpointCells(grid, density(gpuScene, setup, 0), 32);
-        double total = 0.0;
-        std::vector<double> expected(integrals.size());
-        for (size_t c = 0; c < integrals.size(); ++c) {
-            expected[c] = n * integrals[c];
-            total += integrals[c];
-        }
-        EXPECT_TRUE(chi2Passes(grid.histogram(directions), expected, what));
-        // K integrates to the share of draws that produced a direction (rough reflections
-        // below the surface fail and bsdfPdf leaves them out).
-        EXPECT_NEAR(total, double(directions.size()) / n, 4 * std::sqrt(double(directions.size())) / n + 1e-3);
-    }
+    for (bool shared : {false, true})
+        expectDrawsMatchDensity(gpuScene, mixture(shared), ++seed,
+                                shared ? "PMC-HI mixture, shared light" : "PMC-HI mixture, two lights");
+}
+
+// The environment component: its draws (envSample) against envPdf where the ray escapes, and
+// where it hits a light or the floor's far side, against a_env envPdf outside K (those draws
+// score 0, and K holds the density of what scores).
+TEST_F(PmcHiTest, MixtureDensityWithTheEnvironmentIsWhatTheMixtureDraws) {
+    const Scene scene = twoLightScene(testSky());
+    const GpuScene gpuScene(context(), layout(), scene, 0, 8, 8);
+    ASSERT_EQ(gpuScene.info().envKind, gpu::ENV_IMAGE);
+    expectDrawsMatchDensity(gpuScene, mixtureWithEnvironment(), 90, "PMC-HI mixture, two lights and sky");
+    // The environment component alone: its density integrates to 1 over the sphere.
+    gpu::PmcHiTestSetup envOnly = mixtureWithEnvironment();
+    for (uint32_t k = 0; k < kSlots; ++k) envOnly.alpha[k] = 0.0f;
+    envOnly.alpha[gpu::PMC_HI_LIGHT + 2] = 1.0f;
+    const SphereGrid grid(uniformBreaks(-1, 1, 64), uniformBreaks(0, 2 * kPi, 128));
+    double total = 0.0;
+    for (double v : midpointCells(grid, density(gpuScene, envOnly, -1), 8)) total += v;
+    EXPECT_NEAR(total, 1.0, 2e-3);
 }
 
 }  // namespace

@@ -10,6 +10,9 @@
 //  - the same floor under a point, a spot and a directional light: each pixel sees
 //    (1 / pi) * sum of I cos(theta) / d^2 (the spot's times its falloff) and E cos(theta), which
 //    the test integrates over each pixel's footprint on the host.
+// pmc-hi and pmc-ip-hi take the environment as one more component of their mixture and the
+// punctual lights by a next-event estimate beside it (docs/methods/pmc-hi.md), and must give the
+// same answers.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -132,6 +135,14 @@ RenderSettings method(const std::string& name, uint32_t spp, uint32_t maxDepth =
     return s;
 }
 
+// pmc-ip-hi with a short image-plane schedule: 2 samples per pixel, then 1 per iteration.
+RenderSettings pmcIpHi(uint32_t spp) {
+    RenderSettings s = method("pmc-ip-hi", spp);
+    s.options["initial-spp"] = "2";
+    s.options["spp-per-iteration"] = "1";
+    return s;
+}
+
 TEST_F(EnvironmentRender, WhiteSphereUnderConstantSky) {
     const Scene scene = sphereScene(loadEnvironment({"0.7,0.7,0.7"}));
     expectMean(scene, method("pt", 8, 1), 0.7, "pt depth 1");
@@ -141,6 +152,8 @@ TEST_F(EnvironmentRender, WhiteSphereUnderConstantSky) {
     expectMean(scene, ip, 0.7, "pmc-ip");
     expectMean(scene, method("pmc-ip-direct", 16), 0.7, "pmc-ip-direct");
     expectMean(scene, method("pmc-pt", 16, 4), 0.7, "pmc-pt");
+    expectMean(scene, method("pmc-hi", 4), 0.7, "pmc-hi");
+    expectMean(scene, pmcIpHi(4), 0.7, "pmc-ip-hi");
 }
 
 TEST_F(EnvironmentRender, WhiteFloorUnderImageSky) {
@@ -154,6 +167,8 @@ TEST_F(EnvironmentRender, WhiteFloorUnderImageSky) {
         direct.options["light-samples"] = "2";
         expectMean(scene, direct, expected, "direct");
         expectMean(scene, method("pmc-ip", 16, 2), expected, "pmc-ip");
+        expectMean(scene, method("pmc-hi", 4), expected, "pmc-hi");
+        expectMean(scene, pmcIpHi(4), expected, "pmc-ip-hi");
     }
 }
 
@@ -226,6 +241,8 @@ TEST_F(EnvironmentRender, WhiteFloorUnderPunctualLights) {
     expectMean(scene, method("direct", 8), expected, "direct");
     expectMean(scene, method("pmc-ip", 16, 2), expected, "pmc-ip");
     expectMean(scene, method("pmc-pt", 16, 2), expected, "pmc-pt");
+    expectMean(scene, method("pmc-hi", 4), expected, "pmc-hi");
+    expectMean(scene, pmcIpHi(4), expected, "pmc-ip-hi");
 }
 
 // A point light and an environment together, with an emitter: light selection across the
@@ -237,6 +254,8 @@ TEST_F(EnvironmentRender, AllLightKindsTogether) {
     const double expected = 0.6 + floorImageMean(scene, 24, 24, 16);
     expectMean(scene, method("pt", 8, 2), expected, "pt");
     expectMean(scene, method("direct", 8), expected, "direct");
+    expectMean(scene, method("pmc-hi", 4), expected, "pmc-hi");
+    expectMean(scene, pmcIpHi(4), expected, "pmc-ip-hi");
 }
 
 }  // namespace

@@ -1,16 +1,20 @@
 // PMC-HI (pmc-hi, and pmc-ip-hi with and without feedback) is unbiased: its mean image equals MIS direct lighting's pixel by pixel, with
 // one light component per light, with one shared by all, and where delta BSDFs (glass, mirror)
-// are sampled by the BSDF component alone; the furnace gives its analytic answer; a seed gives
+// are sampled by the BSDF component alone, and on a scene lit by an area light, a point light and
+// an environment image together (the environment one more component, the point light a
+// next-event estimate beside the mixture); the furnace gives its analytic answer; a seed gives
 // the same image bit for bit. The shader tests (tests/gpu/test_pmc_hi.cpp) check the mixture.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
+#include <random>
 #include <string>
 
 #include "core/error.h"
 #include "gpu_test.h"
 #include "render_test.h"
+#include "scene_builder.h"
 #include "statistics.h"
 
 namespace pmcr::test {
@@ -200,6 +204,86 @@ TEST_F(PmcHiTest, UnbiasedWithFeedback) {
 
 TEST_F(PmcHiTest, UnbiasedWithoutFeedback) {
     expectUnbiased("scenes/checkers-two-lights.glb", pmcIpHiSettings(24, 4, false), 32);
+}
+
+// Every kind of light at once: a glossy floor (y = 0) with a diffuse blocker above it that
+// shadows part of it, an area light facing down, a point light and a random environment image
+// with a sun, seen at an angle so that the top rows see the sky past the floor's edge.
+Scene allLightsScene() {
+    Scene s;
+    s.path = "pmc-hi-all-lights.gltf";
+    s.materials = {testMaterial(glm::vec3(0.0f), false, 0.3f), testMaterial(glm::vec3(0.0f)),
+                   testMaterial(glm::vec3(6.0f, 5.0f, 4.0f))};
+    // Quad (x0..x1, z0..z1) at height y facing up (+y) or down.
+    auto quad = [&](float x0, float x1, float z0, float z1, float y, bool up, uint32_t material) {
+        if (up) {
+            addTriangle(s, {x0, y, z0}, {x0, y, z1}, {x1, y, z1}, material);
+            addTriangle(s, {x0, y, z0}, {x1, y, z1}, {x1, y, z0}, material);
+        } else {
+            addTriangle(s, {x0, y, z0}, {x1, y, z1}, {x0, y, z1}, material);
+            addTriangle(s, {x0, y, z0}, {x1, y, z0}, {x1, y, z1}, material);
+        }
+    };
+    quad(-4, 4, -4, 4, 0.0f, true, 0);
+    quad(-0.6f, 0.2f, -0.4f, 0.4f, 0.8f, true, 1);
+    quad(-1.5f, -0.5f, -0.5f, 0.5f, 2.5f, false, 2);
+    gpu::PunctualLight point{};
+    point.type = gpu::PUNCTUAL_POINT;
+    point.position = glm::vec3(1.2f, 1.5f, 0.3f);
+    point.direction = glm::vec3(0, -1, 0);
+    point.intensity = glm::vec3(3.0f, 3.0f, 2.5f);
+    s.punctualLights = {point};
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    s.environment.source = "random-sky.exr";
+    s.environment.kind = gpu::ENV_IMAGE;
+    s.environment.image = Image(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            s.environment.image.set(x, y, glm::vec3(0.3f * u(rng), 0.4f * u(rng), 0.6f * u(rng)));
+    s.environment.image.set(9, 2, glm::vec3(12.0f, 11.0f, 9.0f));  // a sun
+    s.environment.rotation = 0.4f;
+    Camera camera;
+    camera.position = glm::vec3(0.0f, 3.0f, 4.5f);
+    camera.forward = glm::normalize(glm::vec3(0.0f, -3.0f, -4.5f));
+    camera.right = glm::vec3(1, 0, 0);
+    camera.up = glm::cross(camera.right, camera.forward);
+    camera.yfov = 0.9f;
+    s.cameras.push_back(camera);
+    finalizeScene(s);
+    return s;
+}
+
+// Independent MIS direct-lighting renders of allLightsScene, rendered once per test binary.
+const ImageMoments& allLightsBaseline(const Scene& scene) {
+    static const ImageMoments moments = [&] {
+        RenderSettings base = pmcHiSettings(24, 32);
+        base.method = "direct";
+        base.options = {{"light-samples", "4"}};
+        return renderMoments(scene, base, 8, 8000);
+    }();
+    return moments;
+}
+
+TEST_F(PmcHiTest, UnbiasedWithAreaPointAndEnvironmentLights) {
+    const Scene scene = allLightsScene();
+    const RenderSettings s = pmcHiSettings(24, 4);
+    const auto run = renderForTest(scene, s);
+    const auto& stats = run.stats["method_stats"];
+    EXPECT_EQ(stats["light_components"].get<int>(), 1);
+    EXPECT_TRUE(stats["environment_component"].get<bool>());
+    EXPECT_EQ(stats["punctual_lights"].get<int>(), 1);
+    EXPECT_EQ(stats["population"].get<int>(), 8);  // 2 x (BSDF, light, environment, cone)
+    ASSERT_EQ(run.output.diagnostics.size(), 4u);
+    EXPECT_EQ(run.output.diagnostics[2].first, "alpha-env");
+    const auto result = zTestRenders(scene, s, 32, 3000, allLightsBaseline(scene));
+    EXPECT_GE(result.passFraction, 0.9975) << result.describe();
+}
+
+TEST_F(PmcHiTest, FeedbackUnbiasedWithAreaPointAndEnvironmentLights) {
+    const Scene scene = allLightsScene();
+    const auto result = zTestRenders(scene, pmcIpHiSettings(24, 4, true), 32, 3100, allLightsBaseline(scene));
+    EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
 }  // namespace

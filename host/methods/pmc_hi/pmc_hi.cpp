@@ -1,5 +1,6 @@
 #include "methods/pmc_hi/pmc_hi.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.h"
@@ -13,13 +14,15 @@ std::vector<MethodOption> pmcHiMethodOptions() {
          "the first iteration's population per component (same: --population-per-component)"},
         {"iterations", "2", "PMC iterations per direct-lighting estimate"},
         {"cone-initial", "0.2", "cone weight after the first iteration (the others scaled by 1 - it)"},
-        {"max-light-components", "4", "one component per light up to this many lights, else one for all"},
+        {"max-light-components", "4",
+         "one component per light up to this many lights (at most 8; 7 with an environment), else one for all"},
         {"alpha-floor", "0.05", "defensive floor of the BSDF and light weights (keeps it unbiased)"},
         {"adapt-rate", "1",
          "how far each iteration moves the weights to eq. 9's (1: all the way, the paper)"},
         {"initial-alpha", "paper",
          "the first iteration's weights without feedback: paper (BSDF and lights equal, the lights' "
-         "share split by power) or BSDF,LIGHT... (one per light component, ',' or '/' between; floored, normalised)"},
+         "share split by power) or BSDF,LIGHT...[,ENV] (one per light component, then the environment's "
+         "if the scene has one; ',' or '/' between; floored, normalised)"},
         {"rao-blackwell", "on",
          "weights f / K with the full mixture; off: f / h_k of the sample's own component (sec. 7), "
          "which misses the light outside a component's support",
@@ -71,32 +74,57 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
 
 gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene) {
     gpu::PmcHiParams p = options.params;
+    // The environment's slot follows the lights' and takes one of theirs (pmc_hi_types.h);
+    // punctual lights take none.
+    const bool environment = scene.info().envKind != gpu::ENV_NONE;
+    if (environment) p.flags |= gpu::PMC_HI_FLAG_ENVIRONMENT;
     const uint32_t lights = uint32_t(scene.lightGroups().lights.size());
-    p.sharedLight = lights > options.maxLightComponents ? 1u : 0u;
-    p.lightComponents = p.sharedLight ? 1u : lights;
+    const uint32_t maxLights = std::min(options.maxLightComponents, gpu::PMC_HI_MAX_LIGHTS - (environment ? 1u : 0u));
+    const bool shared = lights > maxLights;
+    p.sharedLight = shared ? 1u : 0u;
+    p.lightComponents = shared ? 1u : lights;
     if (!options.initialAlpha.empty()) {
-        // The BSDF's weight, then one per light component (slots PMC_HI_BSDF, PMC_HI_LIGHT + l).
-        const size_t expected = 1 + p.lightComponents;
+        // The BSDF's weight, then one per light component (slots PMC_HI_BSDF, PMC_HI_LIGHT + l),
+        // then the environment's.
+        const size_t expected = 1 + p.lightComponents + (environment ? 1 : 0);
         if (options.initialAlpha.size() != expected)
             throw Error("--initial-alpha: this scene has " + std::to_string(expected) +
                         " components to weigh (the BSDF, then " +
-                        (p.sharedLight ? std::string("one shared light component") :
-                                         std::to_string(p.lightComponents) + " lights") +
-                        "), got " + std::to_string(options.initialAlpha.size()) + " weights");
+                        (shared ? std::string("one shared light component")
+                                : std::to_string(p.lightComponents) + " lights") +
+                        (environment ? ", then the environment" : "") + "), got " +
+                        std::to_string(options.initialAlpha.size()) + " weights");
         p.initialAlpha[gpu::PMC_HI_BSDF] = float(options.initialAlpha[0]);
         for (uint32_t l = 0; l < p.lightComponents; ++l)
             p.initialAlpha[gpu::PMC_HI_LIGHT + l] = float(options.initialAlpha[1 + l]);
+        if (environment)
+            p.initialAlpha[gpu::PMC_HI_LIGHT + p.lightComponents] =
+                float(options.initialAlpha[1 + p.lightComponents]);
         p.flags |= gpu::PMC_HI_FLAG_INITIAL_ALPHA;
     }
     return p;
 }
 
+uint32_t pmcHiComponents(const gpu::PmcHiParams& params) {
+    const bool environment = (params.flags & gpu::PMC_HI_FLAG_ENVIRONMENT) != 0u;
+    return gpu::PMC_HI_LIGHT + params.lightComponents + (environment ? 1u : 0u);
+}
+
+std::string pmcHiKernel(const GpuScene& scene) {
+    const bool otherLights = scene.info().envKind != gpu::ENV_NONE || scene.info().punctualCount > 0;
+    return std::string("methods/pmc_hi/pmc_hi") + (otherLights ? "_all_lights" : "");
+}
+
 void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const GpuScene& scene,
                      const std::vector<float>& alphaSums, int width, int height) {
-    const uint32_t components = gpu::PMC_HI_LIGHT + params.lightComponents;
+    const uint32_t components = pmcHiComponents(params);
+    const bool shared = params.sharedLight != 0u;
+    const bool environment = (params.flags & gpu::PMC_HI_FLAG_ENVIRONMENT) != 0u;
     out.methodStats["lights"] = scene.lightGroups().lights.size();
     out.methodStats["light_components"] = params.lightComponents;
     out.methodStats["shared_light_component"] = params.sharedLight;
+    out.methodStats["environment_component"] = environment;
+    out.methodStats["punctual_lights"] = scene.info().punctualCount;
     out.methodStats["population"] = params.populationPerComponent * components;
     out.methodStats["pmc_hi_iterations"] = params.iterations;
     out.methodStats["samples_per_estimate"] =
@@ -115,9 +143,9 @@ void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const Gp
     };
     out.diagnostics.emplace_back("alpha-brdf", map(gpu::PMC_HI_BSDF));
     for (uint32_t l = 0; l < params.lightComponents; ++l)
-        out.diagnostics.emplace_back(params.sharedLight ? std::string("alpha-light")
-                                                        : "alpha-light" + std::to_string(l),
+        out.diagnostics.emplace_back(shared ? std::string("alpha-light") : "alpha-light" + std::to_string(l),
                                      map(gpu::PMC_HI_LIGHT + l));
+    if (environment) out.diagnostics.emplace_back("alpha-env", map(gpu::PMC_HI_LIGHT + params.lightComponents));
     out.diagnostics.emplace_back("alpha-cone", map(gpu::PMC_HI_CONE));
 }
 

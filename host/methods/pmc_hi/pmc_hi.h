@@ -1,6 +1,7 @@
 // PMC-HI (Fan, Lai, Chenney and Dyer, sec. 5) on the host: its method options, the per-scene
 // kernel parameters (one light component per light up to --max-light-components, else one
-// shared by all) and the diagnostics (the figure 7 alpha maps). Used by `pmc-hi`
+// shared by all, and one for the environment when the scene has one), the kernel variant, and
+// the diagnostics (the figure 7 alpha maps). Used by `pmc-hi`
 // (methods/pt/pt_integrator.h) and `pmc-ip-hi` (methods/pmc_ip/pmc_ip_integrator.h); the sampler
 // itself is shaders/methods/pmc_hi/pmc_hi.glsl.
 #pragma once
@@ -16,7 +17,7 @@
 namespace pmcr {
 
 struct PmcHiOptions {
-    gpu::PmcHiParams params{};  // lightComponents and sharedLight: see pmcHiParamsForScene
+    gpu::PmcHiParams params{};  // lightComponents, sharedLight, the environment: see pmcHiParamsForScene
     uint32_t maxLightComponents = 4;
     std::vector<double> initialAlpha;  // --initial-alpha: empty for the paper's
 };
@@ -27,10 +28,19 @@ std::vector<MethodOption> pmcHiMethodOptions();
 // count (pmc-ip-hi calls it hi-iterations, its --iterations being PMC-IP's).
 PmcHiOptions parsePmcHiOptions(const RenderSettings& settings,
                                const std::string& iterationsOption = "iterations");
-// The parameters for a scene: its lights (connected emitters) as components, or one shared.
+// The parameters for a scene: its lights (connected emitters) as components, or one shared,
+// and its environment as one more (PMC_HI_FLAG_ENVIRONMENT).
 gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene);
+// The mixture's slots in use (m): BSDF, cone, the light components and the environment's.
+uint32_t pmcHiComponents(const gpu::PmcHiParams& params);
 
-// Adds the figure 7 maps ("alpha-brdf", "alpha-light0", ..., "alpha-cone": per pixel the mean
+// The PMC-HI kernel for `scene`: pmc_hi_all_lights (the environment as a component, punctual
+// lights by their own next-event estimate) when the scene has either, else pmc_hi, which leaves
+// them out and is faster on lavapipe (every branch of a kernel costs there, taken or not).
+std::string pmcHiKernel(const GpuScene& scene);
+
+// Adds the figure 7 maps ("alpha-brdf", "alpha-light0", ..., "alpha-env" with an environment,
+// "alpha-cone": per pixel the mean
 // final alpha of its first-hit estimates) from per-pixel sums laid out as pmc_hi.comp writes
 // them (PMC_HI_ALPHA_STRIDE floats per pixel, the count last), and the method stats.
 void addPmcHiOutputs(RenderOutput& out, const gpu::PmcHiParams& params, const GpuScene& scene,

@@ -81,7 +81,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     const vk::Kernel& kernel =
         session.kernel(m_estimator == Estimator::Full     ? pathTracingKernel(session.scene(), "pt")
                        : m_estimator == Estimator::Direct ? pathTracingKernel(session.scene(), "direct")
-                                                          : "methods/pmc_hi/pmc_hi");
+                                                          : pmcHiKernel(session.scene()));
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
     ImagePlaneSampler sampler(film.width(), film.height(), m_options);
@@ -322,7 +322,7 @@ MethodInfo pmcIpHiMethod() {
     return {"pmc-ip-hi", "PMC-IP adaptive image-plane sampling over PMC-HI direct lighting, with feedback",
         true, pmcIpHiOptions(),
         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::PmcHi); },
-        "", /*areaLightsOnly=*/true};
+        ""};
 }
 
 }  // namespace pmcr

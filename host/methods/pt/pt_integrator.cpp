@@ -58,7 +58,7 @@ RenderOutput PathTracer::render(RenderSession& session) {
     const vk::Kernel& kernel =
         session.kernel(m_mode == Mode::Full     ? pathTracingKernel(session.scene(), "pt")
                        : m_mode == Mode::Direct ? pathTracingKernel(session.scene(), "direct")
-                                                : "methods/pmc_hi/pmc_hi");
+                                                : pmcHiKernel(session.scene()));
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     bindTileWork(work, film, session);
@@ -204,7 +204,7 @@ MethodInfo pmcHiMethod() {
     return {"pmc-hi", "PMC-HI adaptive direct lighting (mixture of BSDF, light and cone sampling)", true,
         pmcHiMethodOptions(),
         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::PmcHi); },
-        "", /*areaLightsOnly=*/true};
+        ""};
 }
 
 }  // namespace pmcr

@@ -2,8 +2,11 @@
 // Monte Carlo Samplers for Rendering", sec. 5) for direct lighting: each estimate of the light
 // reflected at a shading point runs a tiny population Monte Carlo over incident directions.
 //
-// Kernel (eq. 7): K = a_BSDF h_BSDF + sum_l a_l h_l + a_cone h_cone, one light component per
-// light (light_groups.glsl) or one shared by all (the group of all emitters).
+// Kernel (eq. 7): K = a_BSDF h_BSDF + sum_l a_l h_l + a_cone h_cone (+ a_env h_env), one light
+// component per light (light_groups.glsl) or one shared by all (the group of all emitters), and
+// in a scene with an environment light one more component, the environment's own importance
+// sampling (common/environment.glsl envSample; issue 22: "each light (or group) is a mixture
+// component, the environment one more").
 // Each iteration draws N = populationPerComponent * m directions (m = slots in use, the cone
 // included; iteration 0 initialPopulationPerComponent * m) by deterministic mixture sampling,
 // traces one ray per direction and weights it by w = f / K (eq. 8, the full mixture:
@@ -23,13 +26,39 @@
 // surface is one of its emitters. A light-sampled direction is traced as a shadow ray to the
 // sampled point and scores 0 unless it is visible -- so a point behind another part of a
 // non-convex light scores 0 too, and the density of the directions that score is exactly that
-// first-hit density.
+// first-hit density. Likewise an environment-sampled direction is traced to infinity and scores
+// only when it escapes: the environment component's density of the directions that score is
+// envPdf where a ray escapes and 0 where it hits a surface, and a BSDF or cone direction that
+// escapes scores the environment's radiance with the full mixture density there (the cone's,
+// the BSDF's and the environment's; no light component reaches an escaping direction).
+//
+// Punctual lights are not components: a point, spot or directional light illuminates x from one
+// direction, a delta distribution with no density that K could include, and no BSDF, cone or
+// environment direction ever reaches it (a set of measure zero). Their direct lighting is added
+// beside the mixture by a separate, unweighted next-event estimate (pmcHiPunctualDirect), which
+// is unbiased alone; the PMC-HI estimate covers everything else, so the sum is unbiased.
 #ifndef PMCR_PMC_HI_GLSL
 #define PMCR_PMC_HI_GLSL
 
 #include "methods/pmc_hi/light_groups.glsl"
+#include "common/environment.glsl"
+#include "common/punctual_sampling.glsl"
 #include "common/sampler.glsl"
 #include "common/shading.glsl"
+
+// Whether the environment is a component: only in the kernel variant with it compiled in
+// (PMCR_OTHER_LIGHTS), so that scenes lit by emitters alone pay nothing for it.
+bool pmcHiHasEnvironment(PmcHiParams p) {
+    return hasEnvironment() && (p.flags & PMC_HI_FLAG_ENVIRONMENT) != 0u;
+}
+
+// The environment's slot (when it is a component): after the light components'.
+uint pmcHiEnvironmentSlot(PmcHiParams p) { return PMC_HI_LIGHT + p.lightComponents; }
+
+// Slots in use: BSDF, cone, the light components, and the environment's.
+uint pmcHiSlots(PmcHiParams p) {
+    return pmcHiEnvironmentSlot(p) + (pmcHiHasEnvironment(p) ? 1u : 0u);
+}
 
 // Deterministic mixture sampling (Hesterberg 1995; the paper's sec. 4.3): floor(N a_k) samples
 // from each of the first m components, the R = N - sum floor(N a_k) others by systematic
@@ -115,6 +144,7 @@ struct PmcHiDraw {
     float pdfBsdf;         // BSDF density of wi (a delta lobe: its discrete probability)
     bool delta;            // drawn by a delta lobe of the BSDF
     bool fromLight;        // drawn by a light component: `lightPoint` is the sampled point
+    bool fromEnvironment;  // drawn by the environment component
     SurfacePoint lightPoint;
     vec2 lightBarycentrics;  // its barycentrics on triangle lightPoint.triangle
 };
@@ -128,6 +158,7 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
     d.pdfBsdf = 0.0;
     d.delta = false;
     d.fromLight = false;
+    d.fromEnvironment = false;
     d.lightPoint.position = vec3(0.0);
     d.lightPoint.normal = vec3(0.0, 0.0, 1.0);
     d.lightPoint.shadingNormal = vec3(0.0, 0.0, 1.0);
@@ -151,6 +182,10 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
     } else if (k == PMC_HI_CONE) {
         if (kern.coneOneMinusCos <= 0.0) return false;
         d.wi = pmcHiSampleCone(kern.coneAxis, kern.coneOneMinusCos, u2);
+    } else if (pmcHiHasEnvironment(p) && k == pmcHiEnvironmentSlot(p)) {
+        // A pixel by the environment's alias table (u1), a point in it (u2).
+        d.wi = envSample(u1, u2).wi;
+        d.fromEnvironment = true;
     } else {
         LightSample ls = sampleLightGroup(pmcHiLightGroup(p, k - PMC_HI_LIGHT), u1, u2);
         vec3 toLight = ls.point.position - sh.surface.position;
@@ -169,27 +204,36 @@ bool pmcHiDrawDirection(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern
 }
 
 // The mixture K of eq. 7 at a non-delta direction wi when k == PMC_HI_MAX_COMPONENTS, else
-// component k's own h_k, given the BSDF density and the density pdfLight of the one light
-// component (slot lightSlot; PMC_HI_MAX_COMPONENTS for none) that can reach what wi first hits.
-float pmcHiMixtureDensity(PmcHiKernel kern, vec3 wi, float pdfBsdf, float pdfLight, uint lightSlot,
-                          uint k) {
+// component k's own h_k, given the BSDF density, the density pdfLight of the one light
+// component (slot lightSlot; PMC_HI_MAX_COMPONENTS for none) that can reach what wi first hits,
+// and the environment component's density pdfEnv of wi when wi escapes the scene (else 0).
+float pmcHiMixtureDensity(PmcHiParams p, PmcHiKernel kern, vec3 wi, float pdfBsdf, float pdfLight,
+                          uint lightSlot, float pdfEnv, uint k) {
     float pdfCone = pmcHiConePdf(kern.coneAxis, kern.coneOneMinusCos, wi);
+    const bool env = pmcHiHasEnvironment(p);
+    const uint envSlot = pmcHiEnvironmentSlot(p);
     if (k == PMC_HI_MAX_COMPONENTS) {
-        // Only one light component can reach the point the ray hits.
+        // Only one light component can reach the point the ray hits, and the environment only
+        // a direction that hits none.
         float K = kern.alpha[PMC_HI_BSDF] * pdfBsdf + kern.alpha[PMC_HI_CONE] * pdfCone;
         if (lightSlot < PMC_HI_MAX_COMPONENTS) K += kern.alpha[lightSlot] * pdfLight;
+        if (env) K += kern.alpha[envSlot] * pdfEnv;
         return K;
     }
-    return k == PMC_HI_BSDF ? pdfBsdf : k == PMC_HI_CONE ? pdfCone : k == lightSlot ? pdfLight : 0.0;
+    return k == PMC_HI_BSDF ? pdfBsdf
+         : k == PMC_HI_CONE ? pdfCone
+         : env && k == envSlot ? pdfEnv
+         : k == lightSlot ? pdfLight : 0.0;
 }
 
-// Density of a non-delta direction wi whose ray first hits `l` (when `hit`): the mixture K of
-// eq. 7 when k == PMC_HI_MAX_COMPONENTS, else component k's own h_k.
+// Density of a non-delta direction wi whose ray first hits `l` (when `hit`; else it escapes):
+// the mixture K of eq. 7 when k == PMC_HI_MAX_COMPONENTS, else component k's own h_k.
 float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pdfBsdf, bool hit,
                    SurfacePoint l, uint k) {
     uint lightSlot = PMC_HI_MAX_COMPONENTS;
     float pdfLight = hit ? pmcHiLightDensity(p, from, l, lightSlot) : 0.0;
-    return pmcHiMixtureDensity(kern, wi, pdfBsdf, pdfLight, lightSlot, k);
+    float pdfEnv = !hit && pmcHiHasEnvironment(p) ? envPdf(wi) : 0.0;
+    return pmcHiMixtureDensity(p, kern, wi, pdfBsdf, pdfLight, lightSlot, pdfEnv, k);
 }
 
 // Draws one direction from component k of `kern` with (u1, u2), traces it and scores it:
@@ -197,8 +241,9 @@ float pmcHiDensity(PmcHiParams p, PmcHiKernel kern, vec3 from, vec3 wi, float pd
 // f = Le f_r |cos|. Returns false for a sample that produced no direction (w = 0).
 //
 // Every sample, whatever its component, goes through one traversal call (a light-sampled
-// direction as a shadow ray to the sampled point, the others as a closest hit) and one scoring
-// of one emitter point (the sampled point when it is visible, else the first hit). On lavapipe,
+// direction as a shadow ray to the sampled point, an environment-sampled one as a shadow ray to
+// infinity, the others as a closest hit) and one scoring of one emitter point (the sampled point
+// when it is visible, else the first hit) or of the environment (a ray that escaped). On lavapipe,
 // which runs 8 invocations as the lanes of one vector, every branch runs both its sides under
 // masks, so each call site costs every sample: scoring the light-sampled points and the hit
 // points separately made a PMC-HI sample cost about two MIS samples.
@@ -211,15 +256,19 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
     wi = d.wi;
     if (!drawn || !(maxComponent(d.fr) > 0.0)) return drawn;
 
+    const bool env = pmcHiHasEnvironment(p);
+    const bool shadow = d.fromLight || d.fromEnvironment;  // scores only when nothing is hit
     ShadowRay ray = d.fromLight ? shadowRay(sh, d.lightPoint)
                                 : ShadowRay(spawnOrigin(sh, d.wi), d.wi, FLOAT_MAX);
     Hit hit;
     rays += 1u;
-    bool found = bvhTraverse(ray.origin, ray.dir, ray.tMax, d.fromLight, hit);
-    if (d.fromLight == found) return true;  // the sampled point occluded, or nothing seen
-    SurfacePoint l = surfaceAt(d.fromLight ? d.lightPoint.triangle : hit.triangle,
-                               d.fromLight ? d.lightBarycentrics : vec2(hit.b1, hit.b2));
-    vec3 Le = emittedRadiance(l, -d.wi);
+    bool found = bvhTraverse(ray.origin, ray.dir, ray.tMax, shadow, hit);
+    // The ray left the scene: the environment's radiance scores (none without an environment).
+    const bool escaped = env && !found && !d.fromLight;
+    if (shadow ? found : !found && !escaped) return true;  // occluded, or nothing seen
+    SurfacePoint l = surfaceAt(d.fromLight ? d.lightPoint.triangle : escaped ? 0u : hit.triangle,
+                               d.fromLight ? d.lightBarycentrics : escaped ? vec2(0.0) : vec2(hit.b1, hit.b2));
+    vec3 Le = escaped ? envRadiance(d.wi) : emittedRadiance(l, -d.wi);
     if (maxComponent(Le) <= 0.0) return true;
     vec3 f = d.fr * Le;
 
@@ -231,7 +280,9 @@ bool pmcHiSample(ShadingPoint sh, PmcHiParams p, uint k, PmcHiKernel kern, float
     // For a point light component k sampled, the slot found is k itself.
     uint lightSlot;
     float pdfLight = pmcHiLightDensity(p, sh.surface.position, l, lightSlot);
-    float density = pmcHiMixtureDensity(kern, d.wi, d.pdfBsdf, pdfLight, lightSlot,
+    if (escaped) lightSlot = PMC_HI_MAX_COMPONENTS;
+    float pdfEnv = escaped ? envPdf(d.wi) : 0.0;
+    float density = pmcHiMixtureDensity(p, kern, d.wi, d.pdfBsdf, pdfLight, lightSlot, pdfEnv,
                                         rb ? PMC_HI_MAX_COMPONENTS : k);
     if (density > 0.0) w = f / density;
     return true;
@@ -257,12 +308,26 @@ Sampler pmcHiStream(Sampler smp, uint t, uint k, uint j) {
 // makes them equal; with one component per light, pmcr gives the BSDF component its equal share
 // 1 / (1 + lights) and splits the lights' share in proportion to their power, as light
 // selection does in MIS direct lighting (lights.glsl): a dim light gets fewer samples than a
-// bright one until the adaptation says otherwise. Equal for lights of equal power. Weights the
-// user gave (--initial-alpha) take the defensive floor, as feedback weights do.
+// bright one until the adaptation says otherwise. Equal for lights of equal power. The
+// environment counts as one more light: the lights' and the environment's share is split
+// between the emitters and the environment as light selection splits it (envSelectPmf against
+// the emitters', host/scene/light_choice.h). With a shared light component, every component
+// gets the same weight. Weights the user gave (--initial-alpha) take the defensive floor, as
+// feedback weights do.
 float pmcHiInitialWeight(PmcHiParams p, uint k) {
     if ((p.flags & PMC_HI_FLAG_INITIAL_ALPHA) != 0u) return max(p.initialAlpha[k], p.alphaFloor);
     if (k == PMC_HI_BSDF || p.sharedLight != 0u) return 1.0;
-    return float(p.lightComponents) * lightGroupAt(k - PMC_HI_LIGHT).power / sceneInfo.totalEmitterPower;
+    const bool env = pmcHiHasEnvironment(p);
+    // The emitters' part of the lights' share (1 without an environment).
+    float emitters = 1.0;
+    if (env) {
+        float pEmitters = sceneInfo.totalEmitterPower > 0.0 ? emittersSelectPmf() : 0.0;
+        float pEnv = sceneInfo.envSelectPmf;
+        emitters = pEmitters + pEnv > 0.0 ? pEmitters / (pEmitters + pEnv) : 0.0;
+    }
+    const float share = float(p.lightComponents + (env ? 1u : 0u));
+    if (env && k == pmcHiEnvironmentSlot(p)) return share * (1.0 - emitters);
+    return share * emitters * lightGroupAt(k - PMC_HI_LIGHT).power / sceneInfo.totalEmitterPower;
 }
 
 // One PMC-HI estimate of the light reflected at `sh` (the integral of eq. 4, direct lighting
@@ -275,7 +340,7 @@ float pmcHiInitialWeight(PmcHiParams p, uint k) {
 vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPONENTS], bool hasStart,
                    inout Sampler smp, inout uint rays, out float alphaOut[PMC_HI_MAX_COMPONENTS],
                    out bool adapted) {
-    const uint m = PMC_HI_LIGHT + p.lightComponents;  // slots in use
+    const uint m = pmcHiSlots(p);  // slots in use
     // Samples in all: iteration 0 draws initialPopulationPerComponent * m, the others
     // populationPerComponent * m each.
     const uint samples = (p.initialPopulationPerComponent + (p.iterations - 1u) * p.populationPerComponent) * m;
@@ -368,6 +433,14 @@ vec3 pmcHiEstimate(ShadingPoint sh, PmcHiParams p, float start[PMC_HI_MAX_COMPON
     }
     alphaOut = kern.alpha;
     return total / float(samples);
+}
+
+// The punctual lights' direct lighting at `sh`, beside the PMC-HI estimate (which covers every
+// other light): one punctual light by the alias table over their power, unweighted (see the
+// header: a delta light cannot be a component of the mixture). u: the light's pick.
+vec3 pmcHiPunctualDirect(ShadingPoint sh, float u, inout uint rays) {
+    if (!hasPunctualLights() || !bsdfHasNonDelta(sh.bsdf)) return vec3(0.0);
+    return punctualDirectLighting(sh, u, rays);
 }
 
 #endif
