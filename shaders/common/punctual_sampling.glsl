@@ -3,8 +3,8 @@
 // is a delta distribution in direction, so this estimate has no density to weigh against BSDF
 // or other sampling: it divides by the selection probability alone (pbrt-v4 PointLight::SampleLi,
 // SpotLight, DistantLight), and no other sampler can reach the light. Used by PMC-HI beside its
-// mixture (methods/pmc_hi/pmc_hi.glsl); pt's light choice (path_tracer.glsl sampleLightFrom)
-// follows the same formulas inside its choice among all lights.
+// mixture (methods/pmc_hi/pmc_hi.glsl), and by pt's light choice among all lights
+// (path_tracer.glsl sampleLightFrom).
 #ifndef PMCR_PUNCTUAL_SAMPLING_GLSL
 #define PMCR_PUNCTUAL_SAMPLING_GLSL
 
@@ -19,6 +19,7 @@ struct PunctualSample {
     float pmf;         // probability that the alias table picked it
     vec3 position;     // the light's position (point and spot lights)
     bool directional;  // no position: the shadow ray runs to infinity
+    uint index;        // which light
 };
 
 // The punctual light u picks (u in [0, 1)), seen from `from`.
@@ -26,6 +27,7 @@ PunctualSample samplePunctualLight(vec3 from, float u) {
     PunctualSample ps;
     uint index = aliasTableTriangle(punctualAliasTexels, 0u, sceneInfo.punctualCount, u);
     PunctualLight l = punctualLightAt(index);
+    ps.index = index;
     ps.pmf = uintBitsToFloat(texelFetch(punctualAliasTexels, int(index)).y);
     ps.position = l.position;
     ps.directional = l.type == PUNCTUAL_DIRECTIONAL;
@@ -43,6 +45,11 @@ PunctualSample samplePunctualLight(vec3 from, float u) {
     return ps;
 }
 
+// The segment a punctual sample's light must be visible along, from `origin`.
+ShadowRay punctualShadowRay(PunctualSample ps, vec3 origin) {
+    return ps.directional ? ShadowRay(origin, ps.wi, FLOAT_MAX) : shadowSegment(origin, ps.position);
+}
+
 // The light reflected at `sh` from the punctual lights, estimated with one of them picked by u:
 // f_r |cos| Li / pmf when the shadow ray reaches it (Veach 1997 eq. 10.3 with a delta light).
 vec3 punctualDirectLighting(ShadingPoint sh, float u, inout uint rays) {
@@ -52,7 +59,7 @@ vec3 punctualDirectLighting(ShadingPoint sh, float u, inout uint rays) {
     vec3 f = shadingEval(sh, ps.wi, pdfBsdf, absCos);
     if (!(maxComponent(f) > 0.0)) return vec3(0.0);
     vec3 origin = spawnOrigin(sh, ps.wi);
-    ShadowRay ray = ps.directional ? ShadowRay(origin, ps.wi, FLOAT_MAX) : shadowSegment(origin, ps.position);
+    ShadowRay ray = punctualShadowRay(ps, origin);
     rays += 1u;
     if (traceAny(ray.origin, ray.dir, ray.tMax)) return vec3(0.0);
     return f * absCos * ps.Li / ps.pmf;

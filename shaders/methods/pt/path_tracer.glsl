@@ -14,6 +14,7 @@
 #include "common/environment.glsl"
 #include "common/lights.glsl"
 #include "common/octahedral.glsl"
+#include "common/punctual_sampling.glsl"
 #include "common/sampler.glsl"
 #include "common/shading.glsl"
 
@@ -99,29 +100,16 @@ LightSampleFrom sampleLightFrom(ShadingPoint sh, float uLight, vec2 uLightPoint)
     // (Without emitters, rounding may leave a sliver of u above both intervals: it goes here.)
     if (hasPunctualLights() &&
         (uPunctual < sceneInfo.punctualSelectPmf || !(sceneInfo.totalEmitterPower > 0.0))) {
-        // A delta light: the estimator divides by its selection probability alone (pbrt-v4
-        // PointLight::SampleLi, SpotLight, DistantLight: radiant intensity over d^2, or
-        // irradiance), and BSDF sampling never reaches it, so it takes no MIS weight.
-        uint n = sceneInfo.punctualCount;
-        uint index = aliasTableTriangle(punctualAliasTexels, 0u, n,
-                                        min(uPunctual / sceneInfo.punctualSelectPmf, ONE_MINUS_EPSILON));
-        PunctualLight l = punctualLightAt(index);
+        // A delta light: the estimator divides by its selection probability alone, and BSDF
+        // sampling never reaches it, so it takes no MIS weight (punctual_sampling.glsl).
+        PunctualSample ps = samplePunctualLight(
+            sh.surface.position, min(uPunctual / sceneInfo.punctualSelectPmf, ONE_MINUS_EPSILON));
         ls.delta = true;
-        ls.punctual = index;
-        ls.pdf = uintBitsToFloat(texelFetch(punctualAliasTexels, int(index)).y) *
-                 sceneInfo.punctualSelectPmf;
-        if (l.type == PUNCTUAL_DIRECTIONAL) {
-            ls.wi = -l.direction;
-            ls.Le = l.intensity;
-            ls.ray = ShadowRay(spawnOrigin(sh, ls.wi), ls.wi, FLOAT_MAX);
-        } else {
-            vec3 toLight = l.position - sh.surface.position;
-            float dist2 = dot(toLight, toLight);
-            ls.wi = toLight * inversesqrt(dist2);
-            ls.Le = l.intensity / dist2;
-            if (l.type == PUNCTUAL_SPOT) ls.Le *= spotFalloff(l, dot(-ls.wi, l.direction));
-            ls.ray = shadowSegment(spawnOrigin(sh, ls.wi), l.position);
-        }
+        ls.punctual = ps.index;
+        ls.pdf = ps.pmf * sceneInfo.punctualSelectPmf;
+        ls.wi = ps.wi;
+        ls.Le = ps.Li;
+        ls.ray = punctualShadowRay(ps, spawnOrigin(sh, ps.wi));
         return ls;
     }
     vec3 position = sh.surface.position;
