@@ -24,22 +24,7 @@ Scene furnaceSphere(const gpu::Material& material) {
     Scene s;
     s.path = "furnace-sphere-under-sky.gltf";
     s.materials = {material};
-    const int rings = 24, segments = 48;
-    auto point = [&](int i, int j) {
-        const double theta = std::numbers::pi * i / rings, phi = 2.0 * std::numbers::pi * j / segments;
-        return glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-    };
-    auto outward = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-        if (glm::dot(glm::cross(b - a, c - a), a + b + c) < 0.0f) std::swap(b, c);
-        addTriangle(s, a, b, c, 0);
-    };
-    for (int i = 0; i < rings; ++i)
-        for (int j = 0; j < segments; ++j) {
-            const glm::vec3 p00 = point(i, j), p01 = point(i, j + 1), p10 = point(i + 1, j),
-                            p11 = point(i + 1, j + 1);
-            if (i > 0) outward(p00, p10, p01);
-            if (i < rings - 1) outward(p01, p10, p11);
-        }
+    addSphere(s, glm::vec3(0.0f), 1.0f, 24, 48, 0);
     Camera camera;
     camera.position = glm::vec3(0, 0, 3);
     camera.yfov = 0.8f;

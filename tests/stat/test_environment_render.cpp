@@ -38,22 +38,7 @@ Scene sphereScene(Environment env) {
     Scene s;
     s.path = "environment-sphere.gltf";
     s.materials = {whiteLambertian()};
-    const int rings = 16, segments = 32;
-    auto point = [&](int i, int j) {
-        const double theta = std::numbers::pi * i / rings, phi = 2.0 * std::numbers::pi * j / segments;
-        return glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-    };
-    auto outward = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-        if (glm::dot(glm::cross(b - a, c - a), a + b + c) < 0.0f) std::swap(b, c);
-        addTriangle(s, a, b, c, 0);
-    };
-    for (int i = 0; i < rings; ++i)
-        for (int j = 0; j < segments; ++j) {
-            const glm::vec3 p00 = point(i, j), p01 = point(i, j + 1), p10 = point(i + 1, j),
-                            p11 = point(i + 1, j + 1);
-            if (i > 0) outward(p00, p10, p01);
-            if (i < rings - 1) outward(p01, p10, p11);
-        }
+    addSphere(s, glm::vec3(0.0f), 1.0f, 16, 32, 0);
     Camera camera;
     camera.position = glm::vec3(0, 0, 4);
     s.cameras.push_back(camera);
@@ -173,18 +158,6 @@ TEST_F(EnvironmentRender, WhiteFloorUnderImageSky) {
 }
 
 
-gpu::PunctualLight punctual(uint32_t type, glm::vec3 position, glm::vec3 direction, glm::vec3 intensity,
-                            float inner = 0.0f, float outer = 0.0f) {
-    gpu::PunctualLight l{};
-    l.type = type;
-    l.position = position;
-    l.direction = glm::normalize(direction);
-    l.intensity = intensity;
-    l.cosInner = std::cos(inner);
-    l.cosOuter = std::cos(outer);
-    return l;
-}
-
 // Radiance of the white floor at x (green): (1 / pi) * irradiance from the lights.
 double floorRadiance(const std::vector<gpu::PunctualLight>& lights, const glm::dvec3& x) {
     double E = 0.0;
@@ -231,9 +204,9 @@ double floorImageMean(const Scene& scene, int width, int height, int n) {
 TEST_F(EnvironmentRender, WhiteFloorUnderPunctualLights) {
     const Scene scene = floorScene(
         Environment{},
-        {punctual(gpu::PUNCTUAL_POINT, {0.5f, 1.0f, 0.3f}, {0, -1, 0}, {2.0f, 3.0f, 1.0f}),
-         punctual(gpu::PUNCTUAL_SPOT, {-0.6f, 1.2f, 0.0f}, {0.2f, -1, 0}, {4.0f, 5.0f, 4.0f}, 0.2f, 0.5f),
-         punctual(gpu::PUNCTUAL_DIRECTIONAL, {0, 0, 0}, {0.3f, -1, 0.2f}, {0.5f, 0.4f, 0.5f})},
+        {punctualLight(gpu::PUNCTUAL_POINT, {0.5f, 1.0f, 0.3f}, {0, -1, 0}, {2.0f, 3.0f, 1.0f}),
+         punctualLight(gpu::PUNCTUAL_SPOT, {-0.6f, 1.2f, 0.0f}, {0.2f, -1, 0}, {4.0f, 5.0f, 4.0f}, 0.2f, 0.5f),
+         punctualLight(gpu::PUNCTUAL_DIRECTIONAL, {0, 0, 0}, {0.3f, -1, 0.2f}, {0.5f, 0.4f, 0.5f})},
         2.0f, 1.2f);
     const double expected = floorImageMean(scene, 24, 24, 16);
     expectMean(scene, method("pt", 8, 1), expected, "pt depth 1");
@@ -249,7 +222,7 @@ TEST_F(EnvironmentRender, WhiteFloorUnderPunctualLights) {
 // three kinds must still add up (the floor's answer is the sum of each alone).
 TEST_F(EnvironmentRender, AllLightKindsTogether) {
     const Scene scene = floorScene(loadEnvironment({"0.3,0.6,0.9"}),
-                                   {punctual(gpu::PUNCTUAL_POINT, {0.2f, 1.5f, -0.1f}, {0, -1, 0}, {1, 2, 3})});
+                                   {punctualLight(gpu::PUNCTUAL_POINT, {0.2f, 1.5f, -0.1f}, {0, -1, 0}, {1, 2, 3})});
     // A constant sky of radiance L over a white floor gives L; the point light adds its part.
     const double expected = 0.6 + floorImageMean(scene, 24, 24, 16);
     expectMean(scene, method("pt", 8, 2), expected, "pt");

@@ -16,24 +16,13 @@
 #include "gpu_test.h"
 #include "render_test.h"
 #include "scene/environment.h"
+#include "scene_builder.h"
 #include "statistics.h"
 
 namespace pmcr::test {
 namespace {
 
 class ErLights : public GpuTest {};
-
-gpu::PunctualLight punctualLight(uint32_t type, glm::vec3 position, glm::vec3 direction,
-                                 glm::vec3 intensity, float inner = 0.0f, float outer = 0.0f) {
-    gpu::PunctualLight l{};
-    l.type = type;
-    l.position = position;
-    l.direction = glm::normalize(direction);
-    l.intensity = intensity;
-    l.cosInner = std::cos(inner);
-    l.cosOuter = std::cos(outer);
-    return l;
-}
 
 // cornell-glass with a point light near the ceiling and a spot light aimed at the sphere's side.
 Scene withPointLights() {

@@ -1,5 +1,9 @@
 #include "scene_builder.h"
 
+#include <cmath>
+#include <numbers>
+#include <utility>
+
 namespace pmcr::test {
 
 gpu::Material testMaterial(const glm::vec3& emission, bool doubleSided, float roughness) {
@@ -22,6 +26,38 @@ void addTriangle(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const g
         scene.vertices.push_back(v);
     }
     scene.triangles.push_back({base, base + 1, base + 2, material});
+}
+
+void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings, int segments,
+               uint32_t material) {
+    auto point = [&](int i, int j) {
+        const double theta = std::numbers::pi * i / rings, phi = 2.0 * std::numbers::pi * j / segments;
+        return center + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                           std::sin(theta) * std::sin(phi));
+    };
+    auto outward = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+        if (glm::dot(glm::cross(b - a, c - a), a + b + c - 3.0f * center) < 0.0f) std::swap(b, c);
+        addTriangle(scene, a, b, c, material);
+    };
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const glm::vec3 p00 = point(i, j), p01 = point(i, j + 1), p10 = point(i + 1, j),
+                            p11 = point(i + 1, j + 1);
+            if (i > 0) outward(p00, p10, p01);
+            if (i < rings - 1) outward(p01, p10, p11);
+        }
+}
+
+gpu::PunctualLight punctualLight(uint32_t type, const glm::vec3& position, const glm::vec3& direction,
+                                 const glm::vec3& intensity, float inner, float outer) {
+    gpu::PunctualLight l{};
+    l.type = type;
+    l.position = position;
+    l.direction = glm::normalize(direction);
+    l.intensity = intensity;
+    l.cosInner = std::cos(inner);
+    l.cosOuter = std::cos(outer);
+    return l;
 }
 
 }  // namespace pmcr::test

@@ -67,6 +67,14 @@ PathState pathBegin(vec2 raster, uint recordIndex) {
     return p;
 }
 
+#ifdef PT_RECORD_PATHS
+// A record vertex with every field cleared (no lobe), for pathShade to fill.
+PathVertex clearedPathVertex() {
+    return PathVertex(vec3(0.0), 0u, vec3(0.0), 0u, vec3(0.0), 0u, vec2(0.0), 0.0, LOBE_NONE,
+                      vec3(0.0), 0u, vec3(0.0), 0.0, vec3(0.0), 0.0);
+}
+#endif
+
 // A light sample seen from shading point sh: an emitter point or an environment direction.
 struct LightSampleFrom {
     vec3 wi;            // towards the light
@@ -160,21 +168,10 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
         p.L += contribution;
 #ifdef PT_RECORD_PATHS
         // The environment as one more vertex of the record (shared/path_types.h), when it adds.
+        pv = clearedPathVertex();
         pv.flags = maxComponent(contribution) > 0.0 ? VERTEX_ENVIRONMENT | VERTEX_EMITTER : 0u;
-        pv.position = vec3(0.0);
-        pv.triangle = 0u;
-        pv.normal = vec3(0.0);
-        pv.shadingNormal = vec3(0.0);
-        pv.material = 0u;
         pv.barycentrics = octEncode(p.dir);
-        pv.pdfForward = 0.0;
-        pv.lobe = LOBE_NONE;
-        pv.lightPosition = vec3(0.0);
-        pv.lightTriangle = 0u;
-        pv.explicitContribution = vec3(0.0);
-        pv.lightB1 = 0.0;
         pv.implicitContribution = contribution;
-        pv.lightB2 = 0.0;
 #endif
         return false;
     }
@@ -183,6 +180,7 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
     vec3 wo = -p.dir;
     ShadingPoint sh = makeShadingPoint(s, wo);
 #ifdef PT_RECORD_PATHS
+    pv = clearedPathVertex();
     pv.position = s.position;
     pv.triangle = s.triangle;
     pv.normal = s.normal;
@@ -190,14 +188,6 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
     pv.shadingNormal = s.shadingNormal;
     pv.material = s.material;
     pv.barycentrics = vec2(hit.b1, hit.b2);
-    pv.pdfForward = 0.0;
-    pv.lobe = LOBE_NONE;
-    pv.lightPosition = vec3(0.0);
-    pv.lightTriangle = 0u;
-    pv.explicitContribution = vec3(0.0);
-    pv.lightB1 = 0.0;
-    pv.implicitContribution = vec3(0.0);
-    pv.lightB2 = 0.0;
 #endif
     // Emission at the hit, MIS-weighted against light sampling unless reached by a delta.
     vec3 Le = emittedRadiance(s, wo);
