@@ -724,8 +724,20 @@ gpu::Material GltfLoader::convertMaterial(int index) {
     if (const tinygltf::Value* ext = extension("KHR_materials_transmission")) {
         m.transmission = number(member(*ext, "KHR_materials_transmission", "transmissionFactor", 0),
                                 "transmissionFactor", 0, 1);
-        if (ext->Has("transmissionTexture"))
-            ignoreFor("transmissionTexture is ignored", name);
+        if (ext->Has("transmissionTexture")) {
+            // A textureInfo object, as tinygltf parses the core ones: index, texCoord, extensions.
+            const tinygltf::Value& t = ext->Get("transmissionTexture");
+            if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsNumber())
+                error(label + ": KHR_materials_transmission.transmissionTexture needs an index");
+            tinygltf::TextureInfo info;
+            info.index = int(t.Get("index").GetNumberAsDouble());
+            info.texCoord = int(member(t, "transmissionTexture", "texCoord", 0.0));
+            if (t.Has("extensions") && t.Get("extensions").IsObject()) {
+                const tinygltf::Value& extensions = t.Get("extensions");
+                for (const std::string& key : extensions.Keys()) info.extensions[key] = extensions.Get(key);
+            }
+            m.transmissionTexture = uint32_t(texture(info, "transmissionTexture") + 1);
+        }
     }
     m.ior = 1.5f;
     if (const tinygltf::Value* ext = extension("KHR_materials_ior")) {

@@ -45,8 +45,9 @@ Material materialAt(uint i) {
     vec4 c = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 2u)));
     vec4 d = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 3u)));
     uvec4 e = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 4u));
+    uvec4 f = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 5u));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
-                    c.w, d.xyz, d.w, e.x, e.y, e.z, uintBitsToFloat(e.w));
+                    c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x), f.y, f.z, f.w);
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -212,41 +213,62 @@ vec3 normalMapped(SurfacePoint s, vec3 texel, float scale) {
     return dot(n, s.normal) > 1e-3 ? n : N;
 }
 
-// A material's base colour, metallic and roughness at s, and its shading normal: its factors,
-// times its textures (glTF 2.0 section 3.9.2: baseColorTexture, sRGB; metallicRoughnessTexture's
-// blue and green channels, linear; normalTexture, linear, normalMapped). The lookups run in a
-// loop over the textures the material has, not under one if per texture: lavapipe runs both
-// sides of an if whatever its lanes take, and a loop's body once (masked) and then only while a
-// lane is still in it, so every vector pays for one lookup and only vectors with two textures
-// for the second (measured on pt: two ifs cost 7% of its samples/s, the loop about 1%). The
-// normal map is compiled in only for scenes that have one (sceneHasNormalMaps).
-void materialTextures(Material m, SurfacePoint s, out vec3 baseColor, out vec2 metallicRoughness,
-                      out vec3 shadingNormal) {
-    baseColor = m.baseColor;
-    metallicRoughness = vec2(m.metallic, m.roughness);
-    shadingNormal = s.shadingNormal;
+// A material's base colour, metallic, roughness and transmission at s, and its shading normal:
+// its factors, times its textures (glTF 2.0 section 3.9.2: baseColorTexture, sRGB;
+// metallicRoughnessTexture's blue and green channels, linear; normalTexture, linear,
+// normalMapped; KHR_materials_transmission's transmissionTexture, its red channel). The lookups
+// run in a loop over the textures the material has, not under one if per texture: lavapipe runs
+// both sides of an if whatever its lanes take, and a loop's body once (masked) and then only
+// while a lane is still in it, so every vector pays for one lookup and only vectors with two
+// textures for the second (measured on pt: two ifs cost 7% of its samples/s, the loop about
+// 1%). The normal map is compiled in only for scenes that have one (sceneHasNormalMaps).
+struct MaterialSample {
+    vec3 baseColor;
+    float metallic;
+    float roughness;
+    float transmission;
+    vec3 shadingNormal;
+};
+
+MaterialSample materialTextures(Material m, SurfacePoint s) {
+    MaterialSample r;
+    r.baseColor = m.baseColor;
+    r.metallic = m.metallic;
+    r.roughness = m.roughness;
+    r.transmission = m.transmission;
+    r.shadingNormal = s.shadingNormal;
     int mrTexture = int(m.metallicRoughnessTexture) - 1;
     int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
-    int count = (m.baseColorTexture >= 0 ? 1 : 0) + (mrTexture >= 0 ? 1 : 0) +
-                (normalTexture >= 0 ? 1 : 0);
+    int transmissionTexture = int(m.transmissionTexture) - 1;
+    // Bit w set: the material has texture kind w (0 base colour, 1 metallicRoughness, 2 normal,
+    // 3 transmission); each pass takes the lowest kind left.
+    uint left = (m.baseColorTexture >= 0 ? 1u : 0u) | (mrTexture >= 0 ? 2u : 0u) |
+                (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u);
+    int count = bitCount(left);
     vec3 normalTexel = vec3(0.5, 0.5, 1.0);
     for (int k = 0; k < count; ++k) {
-        // The k-th texture the material has: 0 base colour, 1 metallicRoughness, 2 normal.
-        int which = k + (m.baseColorTexture >= 0 ? 0 : 1);
-        which += which >= 1 && mrTexture < 0 ? 1 : 0;
-        int index = which == 0 ? m.baseColorTexture : which == 1 ? mrTexture : normalTexture;
+        int which = findLSB(left);
+        left &= left - 1u;
+        int index = which == 0   ? m.baseColorTexture
+                    : which == 1 ? mrTexture
+                    : which == 2 ? normalTexture
+                                 : transmissionTexture;
         vec3 t = sampleTexture(index, s.uv, which == 0);
         if (which == 0) {
-            baseColor *= t;
+            r.baseColor *= t;
         } else if (which == 1) {
-            metallicRoughness *= t.bg;
-        } else {
+            r.metallic *= t.b;
+            r.roughness *= t.g;
+        } else if (which == 2) {
             normalTexel = t;
+        } else {
+            r.transmission *= t.r;
         }
     }
     if (sceneHasNormalMaps() && normalTexture >= 0) {
-        shadingNormal = normalMapped(s, normalTexel, m.normalScale);
+        r.shadingNormal = normalMapped(s, normalTexel, m.normalScale);
     }
+    return r;
 }
 
 // Radiance emitted by a surface towards direction w (unit, away from the surface): area lights

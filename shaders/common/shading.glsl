@@ -22,14 +22,10 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     sh.front = dot(s.normal, wo) > 0.0;
     sh.ng = sh.front ? s.normal : -s.normal;
     Material m = materialAt(s.material);
-    vec3 baseColor;
-    vec2 metallicRoughness;
-    vec3 shadingNormal;
-    materialTextures(m, s, baseColor, metallicRoughness, shadingNormal);
-    sh.frame = frameFromNormal(sh.front ? shadingNormal : -shadingNormal);
+    MaterialSample ms = materialTextures(m, s);
+    sh.frame = frameFromNormal(sh.front ? ms.shadingNormal : -ms.shadingNormal);
     sh.woLocal = toLocal(sh.frame, wo);
-    sh.bsdf = makeBsdf(baseColor, metallicRoughness.x, metallicRoughness.y, m.transmission, m.ior,
-                       sh.front);
+    sh.bsdf = makeBsdf(ms.baseColor, ms.metallic, ms.roughness, ms.transmission, m.ior, sh.front);
     return sh;
 }
 

@@ -116,17 +116,21 @@ struct Material {
     // Absorption coefficient (per unit length) of the medium inside a transmissive material
     // (KHR_materials_volume: -ln(attenuationColor) / attenuationDistance; Beer-Lambert); 0: none.
     vec3 absorption;
-    float normalScale;     // normalTexture.scale: the tangent-space normal's x and y scale
-    uint metallicRoughnessTexture;  // index + 1, 0 for none (linear; blue metal, green rough)
-    uint normalTexture;    // index + 1, 0 for none (tangent space, MikkTSpace convention)
-    uint emissiveTexture;  // index + 1, 0 for none (sRGB; emission is multiplied by it)
     // alphaMode MASK (and BLEND, rendered as MASK): the surface is cut away where the base
     // colour texture's alpha is below alphaCutoff (alphaCutoff / baseColorFactor's alpha, so
     // that it compares with the texture alone). 0: opaque. Applied in traversal (IsectTriangle).
     float alphaCutoff;
+    uint metallicRoughnessTexture;  // index + 1, 0 for none (linear; blue metal, green rough)
+    uint normalTexture;    // index + 1, 0 for none (tangent space, MikkTSpace convention)
+    uint emissiveTexture;  // index + 1, 0 for none (sRGB; emission is multiplied by it)
+    uint transmissionTexture;  // index + 1, 0 for none (linear; transmission times its red)
+    float normalScale;     // normalTexture.scale: the tangent-space normal's x and y scale
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
-PMCR_CHECK_SIZE(Material, 80);
-PMCR_CONST uint MATERIAL_TEXELS = 5;
+PMCR_CHECK_SIZE(Material, 96);
+PMCR_CONST uint MATERIAL_TEXELS = 6;
 
 // Scene features the kernels are specialized for (specialization constant 0, kSceneFeatures in
 // shaders/common/scene.glsl; host/scene/scene.h sceneFeatures): code for a feature the scene

@@ -731,7 +731,7 @@ TEST(GltfLoader, MetallicRoughnessTexture) {
     EXPECT_FLOAT_EQ(v.u, 0.5f);
 }
 
-// normalTexture, emissiveTexture and alphaMode MASK: the textures and their factors in the
+// normalTexture, emissiveTexture, transmissionTexture and alphaMode MASK: the textures and their factors in the
 // material, tangents from TANGENT (turned with the node) or generated (dp/du, w = +1 for glTF's
 // downward v), emitter luminance averaged over the emissive texture, alpha cutoffs relative to
 // the base colour factor's alpha, masked triangles marked in the BVH, and a material whose
@@ -749,6 +749,10 @@ TEST(GltfLoader, NormalEmissiveAndAlphaTextures) {
                                  {"alphaCutoff", 0.4},
                                  {"pbrMetallicRoughness",
                                   {{"baseColorFactor", {1.0, 1.0, 1.0, 0.8}}, {"baseColorTexture", {{"index", 0}}}}}});
+    const int clear = b.material(
+        {{"name", "Clear"},
+         {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}, {"transmissionTexture", {{"index", 0}}}}}}}});
+    b.useExtension("KHR_materials_transmission");
     const int ghost = b.material({{"name", "Ghost"},
                                   {"alphaMode", "MASK"},
                                   {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 1.0, 1.0, 0.2}}}}});
@@ -781,6 +785,8 @@ TEST(GltfLoader, NormalEmissiveAndAlphaTextures) {
     EXPECT_FLOAT_EQ(s.materials[size_t(mapped)].normalScale, 0.5f);
     EXPECT_EQ(s.materials[size_t(glowing)].emissiveTexture, 1u);
     EXPECT_FLOAT_EQ(s.materials[size_t(leaf)].alphaCutoff, 0.5f);  // 0.4 / 0.8
+    EXPECT_EQ(s.materials[size_t(clear)].transmissionTexture, 1u);
+    EXPECT_FLOAT_EQ(s.materials[size_t(clear)].transmission, 0.5f);
     EXPECT_EQ(sceneFeatures(s), gpu::SCENE_FEATURE_NORMAL_MAPS | gpu::SCENE_FEATURE_EMISSIVE_TEXTURES |
                                     gpu::SCENE_FEATURE_ALPHA_MASKS);
     // The light, two normal-mapped, the glowing and the leaf triangle; the ghost is gone.

@@ -195,6 +195,24 @@ TEST_F(MaterialTextures, AlphaMaskCutsCameraAndShadowRays) {
     EXPECT_LT(relativeError(render(cardOverFloor(true, 1.0f)), opaqueCard), 1e-4) << "alpha 1: kept";
 }
 
+// KHR_materials_transmission's transmissionTexture: the factor times the texel's red channel.
+TEST_F(MaterialTextures, TransmissionTextureScalesTheFactor) {
+    gpu::Material glass = testMaterial(glm::vec3(0.0f));
+    glass.baseColor = glm::vec3(0.9f);
+    glass.roughness = 0.3f;
+    glass.transmission = 1.0f;
+    gpu::Material textured = glass;
+    textured.transmissionTexture = 1;  // texture 0
+    gpu::Material opaque = glass;
+    opaque.transmission = 0.0f;
+    const uint32_t red0 = 0xFFFFFF00u, red1 = 0xFF0000FFu;
+    const Image plainGlass = render(texturedFloor(glass, red1));
+    ASSERT_GT(relativeError(render(texturedFloor(opaque, red1)), plainGlass), 0.05);
+    EXPECT_LT(relativeError(render(texturedFloor(textured, red1)), plainGlass), 1e-4) << "red 1";
+    EXPECT_LT(relativeError(render(texturedFloor(textured, red0)), render(texturedFloor(opaque, red0))), 1e-4)
+        << "red 0";
+}
+
 // Two emitter triangles side by side, each reading one texel of a black and white row
 // (CLAMP_TO_EDGE, u = 0 and u = 1) times emission 6: as a black and a white emitter of 6.
 TEST_F(MaterialTextures, EmissiveTextureScalesEmission) {
