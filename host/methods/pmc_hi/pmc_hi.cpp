@@ -73,12 +73,15 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings, const std::string
 }
 
 gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene) {
+    return pmcHiParamsFor(options, uint32_t(scene.lightGroups().lights.size()),
+                          scene.info().envKind != gpu::ENV_NONE);
+}
+
+gpu::PmcHiParams pmcHiParamsFor(const PmcHiOptions& options, uint32_t lights, bool environment) {
     gpu::PmcHiParams p = options.params;
     // The environment's slot follows the lights' and takes one of theirs (pmc_hi_types.h);
     // punctual lights take none.
-    const bool environment = scene.info().envKind != gpu::ENV_NONE;
     if (environment) p.flags |= gpu::PMC_HI_FLAG_ENVIRONMENT;
-    const uint32_t lights = uint32_t(scene.lightGroups().lights.size());
     const uint32_t maxLights = std::min(options.maxLightComponents, gpu::PMC_HI_MAX_LIGHTS - (environment ? 1u : 0u));
     const bool shared = lights > maxLights;
     p.sharedLight = shared ? 1u : 0u;

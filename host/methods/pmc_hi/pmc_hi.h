@@ -31,6 +31,8 @@ PmcHiOptions parsePmcHiOptions(const RenderSettings& settings,
 // The parameters for a scene: its lights (connected emitters) as components, or one shared,
 // and its environment as one more (PMC_HI_FLAG_ENVIRONMENT).
 gpu::PmcHiParams pmcHiParamsForScene(const PmcHiOptions& options, const GpuScene& scene);
+// The same for `lights` lights (connected emitter groups) and an environment or none.
+gpu::PmcHiParams pmcHiParamsFor(const PmcHiOptions& options, uint32_t lights, bool environment);
 // The mixture's slots in use (m): BSDF, cone, the light components and the environment's.
 uint32_t pmcHiComponents(const gpu::PmcHiParams& params);
 
