@@ -63,15 +63,7 @@ std::vector<uint32_t> allocateReference(const float* alpha, uint32_t m, uint32_t
 // A random 16 x 8 environment image with a bright pixel, rotated: its alias table is far from
 // uniform, so the environment component's density is put to the test.
 Environment testSky() {
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    Environment env;
-    env.source = "test-sky.exr";
-    env.kind = gpu::ENV_IMAGE;
-    env.image = Image(16, 8);
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x)
-            env.image.set(x, y, u(rng) < 0.2f ? glm::vec3(0.0f) : glm::vec3(u(rng), u(rng), u(rng)));
+    Environment env = randomSkyImage(5, 0.2f, glm::vec3(1.0f));
     env.image.set(3, 2, glm::vec3(20.0f));
     env.rotation = 0.7f;
     return env;

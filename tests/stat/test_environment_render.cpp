@@ -70,15 +70,7 @@ Scene floorScene(Environment env, std::vector<gpu::PunctualLight> punctualLights
 }
 
 Environment randomSky(float rotationDegrees) {
-    std::mt19937 rng(17);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    Environment env;
-    env.source = "random-sky.exr";
-    env.kind = gpu::ENV_IMAGE;
-    env.image = Image(16, 8);
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x)
-            env.image.set(x, y, u(rng) < 0.2f ? glm::vec3(0.0f) : glm::vec3(u(rng), 2.0f * u(rng), u(rng)));
+    Environment env = randomSkyImage(17, 0.2f, glm::vec3(1.0f, 2.0f, 1.0f));
     env.image.set(5, 2, glm::vec3(30.0f, 60.0f, 20.0f));  // a sun
     env.scale = 0.8f;
     env.rotation = glm::radians(rotationDegrees);

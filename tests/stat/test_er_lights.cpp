@@ -41,17 +41,8 @@ Scene withPointLights() {
 
 // A random sky with a sun (16 x 8 pixels, as test_environment_render.cpp's).
 Environment randomSky() {
-    std::mt19937 rng(29);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    Environment env;
-    env.source = "random-sky.exr";
-    env.kind = gpu::ENV_IMAGE;
-    env.image = Image(16, 8);
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x)
-            env.image.set(x, y, glm::vec3(u(rng), u(rng), u(rng)) * 2.0f);
+    Environment env = randomSkyImage(29, 0.0f, glm::vec3(2.0f));
     env.image.set(7, 3, glm::vec3(8.0f, 7.0f, 6.0f));  // a sun (brighter ones make heavy tails)
-    env.scale = 1.0f;
     env.rotation = 0.3f;
     return env;
 }
@@ -110,13 +101,13 @@ void expectUnbiased(const Scene& scene, const RenderSettings& s, int renders,
 
 // Every method that takes the scene's lights, each against the reference of its depth.
 // `directZTest` false: direct is instead checked to be pt at depth 1 (the same estimator with
-// the same seed: equal up to float rounding). Under the sky, pixels whose light comes from rare events
-// (grazing reflections off the glass that escape) make the per-pixel estimates heavy-tailed:
-// pixel 334's green was 0 in all 256 samples of 16 direct renders of 16 spp, 0.002 in 16 renders
-// of 32, 0.011 and 0.013 in single renders of 1024 and 2048, 0.026 in the 16 references; direct
-// failed that pixel (the 0.25% the test allows) and with 48 references a second one, flukes of
-// an estimator identical to pt's (which fails none), not bias. Direct's unbiasedness under an
-// image sky is tested against the analytic answer in test_environment_render.cpp.
+// the same seed: equal up to float rounding). Under the sky, pixels whose light comes from rare
+// events (grazing reflections off the glass that escape) make the per-pixel estimates
+// heavy-tailed: with an earlier draw of this sky, one pixel's green was 0 in all 256 samples of
+// 16 direct renders of 16 spp, 0.011 and 0.013 in single renders of 1024 and 2048 spp and 0.026
+// in the references, and direct failed it (the 0.25% the test allows) while pt, the same
+// estimator, failed none: flukes, not bias. Direct's unbiasedness under an image sky is tested
+// against the analytic answer in test_environment_render.cpp.
 void expectAllUnbiased(const Scene& scene, bool directZTest) {
     const ImageMoments full = reference(scene, 8, 16);
     expectUnbiased(scene, settingsFor("pt", 32), 16, full);

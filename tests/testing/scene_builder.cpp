@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <utility>
 
 namespace pmcr::test {
@@ -46,6 +47,26 @@ void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings, i
             if (i > 0) outward(p00, p10, p01);
             if (i < rings - 1) outward(p01, p10, p11);
         }
+}
+
+Environment randomSkyImage(uint32_t seed, float blackFraction, const glm::vec3& scale, int width,
+                           int height) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Environment env;
+    env.source = "random-sky.exr";
+    env.kind = gpu::ENV_IMAGE;
+    env.image = Image(width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            if (blackFraction > 0.0f && u(rng) < blackFraction) {
+                env.image.set(x, y, glm::vec3(0.0f));
+                continue;
+            }
+            const float r = u(rng), g = u(rng), b = u(rng);
+            env.image.set(x, y, glm::vec3(r, g, b) * scale);
+        }
+    return env;
 }
 
 gpu::PunctualLight punctualLight(uint32_t type, const glm::vec3& position, const glm::vec3& direction,

@@ -18,6 +18,13 @@ void addTriangle(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const g
 void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings, int segments,
                uint32_t material);
 
+// A random width x height equirectangular image sky for environment-light tests: each pixel black
+// with probability `blackFraction` (0: none drawn), else uniform in [0, 1) per channel (drawn r,
+// g, b in that order) times `scale`; from its own seed, so a test's sky never changes. Callers
+// add a sun pixel, the scale and rotation they need.
+Environment randomSkyImage(uint32_t seed, float blackFraction, const glm::vec3& scale,
+                           int width = 16, int height = 8);
+
 // A KHR_lights_punctual light: `direction` (normalized here) is where a spot or directional
 // light shines; `inner` and `outer` are a spot's cone angles (radians).
 gpu::PunctualLight punctualLight(uint32_t type, const glm::vec3& position, const glm::vec3& direction,
