@@ -63,7 +63,7 @@ Environment randomSkyImage(uint32_t seed, float blackFraction, const glm::vec3& 
                 env.image.set(x, y, glm::vec3(0.0f));
                 continue;
             }
-            const float r = u(rng), g = u(rng), b = u(rng);
+            const float b = u(rng), g = u(rng), r = u(rng);
             env.image.set(x, y, glm::vec3(r, g, b) * scale);
         }
     return env;

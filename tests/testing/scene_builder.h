@@ -19,8 +19,9 @@ void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings, i
                uint32_t material);
 
 // A random width x height equirectangular image sky for environment-light tests: each pixel black
-// with probability `blackFraction` (0: none drawn), else uniform in [0, 1) per channel (drawn r,
-// g, b in that order) times `scale`; from its own seed, so a test's sky never changes. Callers
+// with probability `blackFraction` (0: none drawn), else uniform in [0, 1) per channel times
+// `scale`, drawn b, g, r in that order (the order in which the tests' skies were first drawn and
+// validated); from its own seed, so a test's sky never changes. Callers
 // add a sun pixel, the scale and rotation they need.
 Environment randomSkyImage(uint32_t seed, float blackFraction, const glm::vec3& scale,
                            int width = 16, int height = 8);
