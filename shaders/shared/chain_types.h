@@ -59,6 +59,11 @@ PMCR_CONST uint COUNTER_INVALID_PROPOSALS = 8;  // signature changed, occluded, 
 PMCR_CONST uint COUNTER_DEPOSITS = 9;
 PMCR_CONST uint COUNTER_DEPOSITS_DROPPED = 10;  // non-finite or filtered away (filters are biased)
 PMCR_CONST uint COUNTER_CHAINS_STARTED = 11;
+// Metropolis light transport (mlt, pssmlt): independent / large-step and PSS small-step mutations.
+PMCR_CONST uint COUNTER_LARGE_PROPOSED = 12;
+PMCR_CONST uint COUNTER_LARGE_ACCEPTED = 13;
+PMCR_CONST uint COUNTER_SMALL_PROPOSED = 14;
+PMCR_CONST uint COUNTER_SMALL_ACCEPTED = 15;
 
 // Deposits accumulate as 64-bit fixed point per channel (value * SPLAT_SCALE / e_d, rounded
 // stochastically): order-independent, so a seed gives the same image bit for bit, and unbiased.
