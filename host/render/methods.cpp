@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "methods/erpt/erpt_integrator.h"
+#include "methods/mlt/mlt_integrator.h"
 #include "methods/pmc_er/pmc_er_integrator.h"
 #include "methods/pmc_ip/pmc_ip_integrator.h"
 #include "methods/pmc_pt/pmc_pt_integrator.h"
@@ -21,6 +22,7 @@ const std::vector<MethodInfo>& methods() {
         erptMethod(),
         pmcErMethod(),
         pmcPtMethod(),
+        mltMethod(),
     };
     return list;
 }

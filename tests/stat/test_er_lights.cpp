@@ -1,6 +1,6 @@
 // Every method that takes punctual lights and the environment is unbiased with them: per-pixel
 // z-tests (Mitsuba style, Sidak-corrected, at least 99.75% of pixels pass) of pt, direct, erpt
-// and pmc-er against path tracing with many samples, on cornell-glass (a glass sphere: caustic
+// pmc-er and mlt against path tracing with many samples, on cornell-glass (a glass sphere: caustic
 // paths through it, so both of ERPT's perturbations run) with
 //  (i)  a point and a spot light beside its area light: light vertices with a position, which
 //       the lens perturbation reconnects to and the caustic perturbation starts from;
@@ -76,6 +76,11 @@ RenderSettings settingsFor(const std::string& method, uint32_t spp) {
         // the defaults, whose moves barely change d.)
         s.options["redistribute"] = "all";
         s.options["lens-radius"] = "8";
+    } else if (method == "mlt") {
+        // As erpt's, and a bootstrap as large as the reference's samples (test_mlt.cpp says why).
+        s.options["mutation"] = "mix";
+        s.options["lens-radius"] = "8";
+        s.options["bootstrap"] = "64";
     } else if (method == "pmc-er") {
         s.options["population"] = "400";
         s.options["mutations"] = "4";
@@ -126,6 +131,7 @@ void expectAllUnbiased(const Scene& scene, bool directZTest) {
     }
     expectUnbiased(scene, settingsFor("erpt", 16), 40, full);
     expectUnbiased(scene, settingsFor("pmc-er", 16), 40, full);
+    expectUnbiased(scene, settingsFor("mlt", 16), 40, full);
 }
 
 TEST_F(ErLights, PointAndSpotLights) { expectAllUnbiased(withPointLights(), true); }

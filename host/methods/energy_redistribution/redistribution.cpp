@@ -1,6 +1,9 @@
 #include "methods/energy_redistribution/redistribution.h"
 
 #include <limits>
+#include <string>
+
+#include "core/error.h"
 
 #include "shared/host_device.h"
 #include "vk/context.h"
@@ -38,6 +41,14 @@ void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float 
                                 ? double(pass + 1) / double(passes)
                                 : session.elapsedSeconds() / session.settings().timeLimit;
     session.progress().update(fraction, double(pass + 1), "passes");
+}
+
+uint32_t parseMutationMode(const std::string& name) {
+    if (name == "erpt") return gpu::MUTATION_ERPT;
+    if (name == "mix") return gpu::MUTATION_MIX;
+    if (name == "lens") return gpu::MUTATION_LENS;
+    if (name == "caustic") return gpu::MUTATION_CAUSTIC;
+    throw Error("--mutation: expected erpt, mix, lens or caustic, got '" + name + "'");
 }
 
 nlohmann::json mutationStatistics(const Counters& c) {

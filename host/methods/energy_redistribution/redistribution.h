@@ -3,6 +3,8 @@
 // energy sums (shared/chain_types.h ERPT_BINDING_ENERGY), and the mutation statistics they report.
 #pragma once
 
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include "methods/energy_redistribution/splat_film.h"
@@ -42,6 +44,9 @@ private:
 // path-traced paths per pass), and the progress bar moves by passes, or by time.
 void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
                                 uint64_t pathsPerPass, uint32_t pass, uint32_t passes);
+
+// The perturbation choice --mutation names (erpt, mix, lens, caustic): gpu::MUTATION_*.
+uint32_t parseMutationMode(const std::string& name);
 
 // Proposals and acceptance per perturbation type, invalid proposals, deposits and drops.
 nlohmann::json mutationStatistics(const Counters& counters);

@@ -21,14 +21,6 @@ namespace {
 constexpr uint32_t kRecordChunk = 16384;   // pixels whose records are held at once
 constexpr uint32_t kChainCapacity = 65536; // chains alive at once
 
-uint32_t parseMutationMode(const std::string& name) {
-    if (name == "erpt") return gpu::MUTATION_ERPT;
-    if (name == "mix") return gpu::MUTATION_MIX;
-    if (name == "lens") return gpu::MUTATION_LENS;
-    if (name == "caustic") return gpu::MUTATION_CAUSTIC;
-    throw Error("--mutation: expected erpt, mix, lens or caustic, got '" + name + "'");
-}
-
 }  // namespace
 
 ErptOptions ErptOptions::fromSettings(const RenderSettings& s) {

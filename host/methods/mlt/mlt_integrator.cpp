@@ -1,0 +1,226 @@
+#include "methods/mlt/mlt_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "methods/energy_redistribution/redistribution.h"
+#include "methods/energy_redistribution/splat_film.h"
+#include "methods/metropolis/bootstrap.h"
+#include "methods/pt/pt_integrator.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+constexpr uint32_t kBootstrapChunk = 16384;  // bootstrap samples per dispatch (scratch chain slots)
+
+uint32_t defaultChains(uint32_t pixels) { return std::clamp<uint32_t>(pixels / 16, 1024, 65536); }
+
+}  // namespace
+
+MltOptions MltOptions::fromSettings(const RenderSettings& s) {
+    MltOptions o;
+    const int bootstrap = s.optionInt("bootstrap", int(o.bootstrapSpp));
+    if (bootstrap < 1 || bootstrap > 1024) throw Error("--bootstrap: expected 1..1024 samples per pixel");
+    o.bootstrapSpp = uint32_t(bootstrap);
+    const int chains = s.optionInt("chains", 0);
+    if (chains < 0 || chains > (1 << 20)) throw Error("--chains: expected 1..1048576 (0: pixels / 16)");
+    o.chains = uint32_t(chains);
+    o.largeStep = float(s.optionDouble("large-step", o.largeStep));
+    if (!(o.largeStep > 0.0f && o.largeStep <= 1.0f))
+        throw Error("--large-step: expected a probability in (0, 1] (0 would not be ergodic)");
+    o.mutationMode = parseMutationMode(s.optionString("mutation", "erpt"));
+    o.lensRadius = float(s.optionDouble("lens-radius", o.lensRadius));
+    if (!(o.lensRadius > 0.0f)) throw Error("--lens-radius: expected a positive number of pixels");
+    o.causticThetaMin = float(s.optionDouble("caustic-theta-min", o.causticThetaMin));
+    o.causticThetaMax = float(s.optionDouble("caustic-theta-max", o.causticThetaMax));
+    if (!(o.causticThetaMin > 0.0f) || !(o.causticThetaMax > o.causticThetaMin) || o.causticThetaMax > 1.5f)
+        throw Error("--caustic-theta-min/max: expected 0 < min < max <= 1.5 radians");
+    o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
+    if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
+        throw Error("--caustic-probability: expected a probability");
+    const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
+    if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
+    o.stepsPerDispatch = uint32_t(steps);
+    return o;
+}
+
+Mlt::Mlt(const RenderSettings& settings) : m_options(MltOptions::fromSettings(settings)) {}
+
+RenderOutput Mlt::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const MltOptions& o = m_options;
+    const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
+    const uint32_t passes = settings.spp > 0 ? settings.spp
+                            : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
+                                                       : kDefaultSpp;
+    const uint32_t chainCount = o.chains > 0 ? o.chains : defaultChains(pixels);
+    // Mutations per chain per pass: about one mutation per pixel in all.
+    const uint32_t stepsPerPass = std::max<uint32_t>(1, uint32_t(std::lround(double(pixels) / chainCount)));
+    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
+    if (bootstrapSamples > (uint64_t(1) << 28)) throw Error("mlt: --bootstrap too large for this image (2^28 samples at most)");
+
+    auto kernel = [&](const std::string& path) -> const vk::Kernel& {
+        return session.kernel(lightsKernelVariant(session.scene(), path));
+    };
+    const vk::Kernel& seedKernel = kernel("methods/mlt/mlt_seed");
+    const vk::Kernel& chainKernel = kernel("methods/mlt/mlt_chains");
+    session.startClock();
+
+    Film& film = session.film();
+    SplatFilm splat(context, session.width(), session.height());
+    const uint32_t slots = std::max(chainCount, kBootstrapChunk);
+    vk::Buffer chains(context, chainCount * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "mlt chains");
+    vk::Buffer chainVertices(context, VkDeviceSize(slots) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "mlt chain vertices");
+    vk::Buffer weights(context, bootstrapSamples * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "mlt bootstrap weights", vk::MemoryUsage::Readback);
+    vk::Buffer starts(context, chainCount * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "mlt chain starts");
+    vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "mlt pixel stats");
+    vk::Buffer accepted(context, pixels * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "mlt accepted");
+    pixelStats.fill(0);
+    accepted.fill(0);
+
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "mlt");
+    work.bind(gpu::ERPT_BINDING_CHAINS, chains);
+    work.bind(gpu::ERPT_BINDING_CHAIN_VERTICES, chainVertices);
+    work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
+    work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
+    work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
+    work.bind(gpu::MLT_BINDING_WEIGHTS, weights);
+    work.bind(gpu::MLT_BINDING_STARTS, starts);
+    work.bind(gpu::MLT_BINDING_ACCEPTED, accepted);
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
+
+    gpu::MltPush push{};
+    push.seed = settings.seed;
+    push.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
+    push.mutationMode = o.mutationMode;
+    push.largeStep = o.largeStep;
+    push.lensRadius = o.lensRadius;
+    push.causticThetaMin = o.causticThetaMin;
+    push.causticThetaMax = o.causticThetaMax;
+    push.causticProbability = o.causticProbability;
+
+    // The bootstrap: weights W_i = F / p of independent samples.
+    for (uint64_t first = 0; first < bootstrapSamples && !session.interrupted(); first += kBootstrapChunk) {
+        batches.begin();
+        batch.bind(work);
+        push.flags = 0;
+        push.chainBase = uint32_t(first);
+        push.chainCount = uint32_t(std::min<uint64_t>(kBootstrapChunk, bootstrapSamples - first));
+        batch.dispatch(seedKernel, push, push.chainCount);
+        batches.submit();
+    }
+    const uint64_t bootstrapRays = session.counters().values[gpu::COUNTER_RAYS];
+    MetropolisStart start;
+    if (!session.interrupted())
+        start = chooseChainStarts(weights.download<float>(bootstrapSamples), chainCount,
+                                  (uint64_t(settings.seed) << 32) ^ 0x6d6c74ULL);
+    // e_d: each pass's chainCount * stepsPerPass deposits of e_d sum to b_hat in expectation.
+    const double depositEnergy = start.normalization / (double(chainCount) * stepsPerPass);
+
+    uint64_t chainSteps = 0;
+    if (!start.samples.empty() && std::isfinite(depositEnergy) && depositEnergy > 0.0) {
+        starts.upload(start.samples.data(), start.samples.size() * sizeof(uint32_t));
+        batches.begin();
+        batch.bind(work);
+        push.flags = gpu::MLT_FLAG_START;
+        push.chainBase = 0;
+        push.chainCount = chainCount;
+        batch.dispatch(seedKernel, push, chainCount);
+        batches.submit();
+
+        push.flags = 0;
+        DispatchSizer sizer(1024, chainCount, session.targetDispatchSeconds());
+        for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
+            bool interrupted = false;
+            for (uint32_t done = 0; done < stepsPerPass && !interrupted;) {
+                push.steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
+                for (uint32_t c = 0; c < chainCount;) {
+                    batches.begin();
+                    batch.bind(work);
+                    push.chainBase = c;
+                    push.chainCount = std::min(sizer.units(), chainCount - c);
+                    const auto t0 = std::chrono::steady_clock::now();
+                    batch.dispatch(chainKernel, push, push.chainCount);
+                    batches.submit();
+                    chainSteps += uint64_t(push.chainCount) * push.steps;
+                    sizer.record(push.chainCount,
+                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                    c += push.chainCount;
+                }
+                done += push.steps;
+                interrupted = session.interrupted();
+            }
+            if (interrupted) break;  // a partial pass would be a darker, biased image
+            completeRedistributionPass(session, splat, float(depositEnergy), pixels, pass, passes);
+        }
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    out.image = splat.resolve(float(depositEnergy));
+    const auto stats = pixelStats.download<gpu::PixelChainStats>(pixels);
+    const auto acceptedCounts = accepted.download<uint32_t>(pixels);
+    Image chainsImage(session.width(), session.height()), proposalsImage(session.width(), session.height()),
+        acceptedImage(session.width(), session.height());
+    for (uint32_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) {
+            chainsImage.rgb[3 * i + c] = float(stats[i].chainsStarted);
+            proposalsImage.rgb[3 * i + c] = float(stats[i].proposals);
+            acceptedImage.rgb[3 * i + c] = float(acceptedCounts[i]);
+        }
+    out.diagnostics.push_back({"chains", chainsImage});
+    out.diagnostics.push_back({"proposals", proposalsImage});
+    out.diagnostics.push_back({"accepted", acceptedImage});
+    const int done = splat.completedPasses();
+    // Mutations, not camera paths: the paper's "mutations per pixel" (one per pixel per pass).
+    out.cameraSamples = uint64_t(done) * chainCount * stepsPerPass;
+    out.samplesPerPixel = done;
+
+    const Counters& c = session.counters();
+    out.methodStats = {
+        {"passes", done},
+        {"bootstrap_samples", bootstrapSamples},
+        {"bootstrap_rays", bootstrapRays},
+        {"normalization", start.normalization},  // b_hat: the image's summed pixel luminance
+        {"deposit_energy", depositEnergy},
+        {"chains", chainCount},
+        {"steps_per_pass", stepsPerPass},
+        {"mutations_per_pixel", double(done) * chainCount * stepsPerPass / pixels},
+        {"chain_steps", chainSteps},
+        {"large_step", o.largeStep},
+        {"acceptance", chainSteps > 0 ? double(c.values[gpu::COUNTER_LENS_ACCEPTED] + c.values[gpu::COUNTER_CAUSTIC_ACCEPTED] +
+                                                c.values[gpu::COUNTER_LARGE_ACCEPTED]) / double(chainSteps)
+                                      : 0.0},
+        {"deposited_energy", batches.depositedEnergy()},  // units of e_d: one per chain step
+    };
+    out.methodStats.update(mutationStatistics(c));
+    return out;
+}
+
+MethodInfo mltMethod() {
+    return {"mlt", "Metropolis light transport: ERPT's lens and caustic perturbations plus independent mutations",
+        true,
+        {{"bootstrap", "4", "bootstrap samples per pixel: b and the chains' start paths"},
+         {"chains", "0", "chains run in parallel (0: pixels / 16, within 1024..65536)"},
+         {"large-step", "0.25", "probability of an independent mutation (a fresh path); > 0 keeps the chains ergodic: the perturbations alone keep a path's vertex count and type sequence"},
+         {"mutation", "erpt", "perturbations: erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
+         {"lens-radius", "3", "lens perturbation disk radius in pixels"},
+         {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
+         {"caustic-theta-max", "0.1", "... to (radians)"},
+         {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
+         {"steps-per-dispatch", "4", "mutations per chain per dispatch"}},
+        [](const RenderSettings& s) { return std::make_unique<Mlt>(s); }, ""};
+}
+
+}  // namespace pmcr

@@ -1,0 +1,47 @@
+// Metropolis light transport (Veach and Guibas 1997) over pmcr's path space, the baseline the
+// ERPT paper compares against with "the functions that mutate paths shared between MLT and
+// ERPT" (Cline et al. 2005 sec. 5). A bootstrap of independent paths estimates the normalisation
+// b and starts the chains in proportion to their weights (host/methods/metropolis/bootstrap.h);
+// each chain then mutates its path by ERPT's lens and caustic perturbations or, with probability
+// --large-step, by an independent mutation (a fresh path, shaders/methods/mlt/independent_path.glsl)
+// that makes the chains ergodic. Deposits are expected values, e_d = b_hat / (mutations per pass).
+//
+// --spp N runs N passes of about one mutation per pixel each; the chains carry on from pass to
+// pass, and each pass's deposits are an unbiased image (E[b_hat h(x_t)] = integral of F h for
+// chains started by resampling, Veach 1997 sec. 11.3.1), so the image is their average.
+#pragma once
+
+#include "render/integrator.h"
+#include "render/method_info.h"
+
+namespace pmcr {
+
+struct MltOptions {
+    uint32_t bootstrapSpp = 4;        // bootstrap samples per pixel
+    uint32_t chains = 0;              // 0: pixels / 16, within [1024, 65536]
+    float largeStep = 0.25f;          // probability of the independent mutation
+    uint32_t mutationMode = 0;        // gpu::MUTATION_* for the perturbations
+    float lensRadius = 3.0f;          // pixels, as ERPT's default
+    float causticThetaMin = 1e-4f;    // radians
+    float causticThetaMax = 0.1f;
+    float causticProbability = 0.5f;
+    uint32_t stepsPerDispatch = 4;
+
+    static MltOptions fromSettings(const RenderSettings& settings);
+};
+
+class Mlt : public Integrator {
+public:
+    explicit Mlt(const RenderSettings& settings);
+    RenderOutput render(RenderSession& session) override;
+
+    static constexpr uint32_t kDefaultSpp = 16;
+
+private:
+    MltOptions m_options;
+};
+
+// The registry entry of `mlt` (render/methods.cpp).
+MethodInfo mltMethod();
+
+}  // namespace pmcr

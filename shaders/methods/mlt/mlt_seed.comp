@@ -1,0 +1,5 @@
+#version 460
+// mlt_seed for scenes lit by emitters alone (mlt_seed_kernel.glsl).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#include "methods/mlt/mlt_seed_kernel.glsl"
