@@ -6,6 +6,7 @@
 #include "methods/pmc_ip/pmc_ip_integrator.h"
 #include "methods/pmc_pt/pmc_pt_integrator.h"
 #include "methods/pt/pt_integrator.h"
+#include "methods/pssmlt/pssmlt_integrator.h"
 
 namespace pmcr {
 
@@ -21,6 +22,7 @@ const std::vector<MethodInfo>& methods() {
         erptMethod(),
         pmcErMethod(),
         pmcPtMethod(),
+        pssmltMethod(),
     };
     return list;
 }

@@ -35,6 +35,7 @@ using uint64_t = std::uint64_t;
 #include "shared/chain_types.h"
 #include "shared/pmc_hi_types.h"
 #include "shared/pmc_er_types.h"
+#include "shared/pssmlt_types.h"
 
 #ifdef __cplusplus
 }  // namespace pmcr::gpu
