@@ -29,8 +29,7 @@ PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
     o.bootstrapSpp = uint32_t(bootstrap);
     const int chains = s.optionInt("chains", 0);
     if (chains < 0 || uint32_t(chains) > kMaxChains)
-        throw Error("--chains: expected 1.." + std::to_string(kMaxChains) + " (0: min(pixels, " +
-                    std::to_string(kDefaultChains) + "))");
+        throw Error("--chains: expected 0.." + std::to_string(kMaxChains) + " (0: automatic)");
     o.chains = uint32_t(chains);
     o.largeStepProbability = float(s.optionDouble("large-step", o.largeStepProbability));
     if (!(o.largeStepProbability >= 0.0f && o.largeStepProbability <= 1.0f))
@@ -56,7 +55,8 @@ RenderOutput Pssmlt::render(RenderSession& session) {
     const uint32_t spp = settings.spp > 0 ? settings.spp
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
-    const uint32_t chains = o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::kDefaultChains);
+    const uint32_t chains =
+        o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::defaultChains(context.isCpuDevice()));
     const uint32_t dimensions = PSSMLT_DIMENSIONS(settings.maxDepth);
     const VkDeviceSize primaryBytes = VkDeviceSize(chains) * dimensions * sizeof(gpu::PrimarySample);
     if (primaryBytes > kMaxPrimaryBytes)
@@ -200,7 +200,7 @@ MethodInfo pssmltMethod() {
             "ergodic over everything pt samples",
             true,
             {{"bootstrap", "4", "path-traced samples per pixel estimating b and starting the chains"},
-             {"chains", "0", "chains in parallel (0: min(pixels, 16384))"},
+             {"chains", "0", "chains in parallel (0: one per pixel, at most 4096 on a CPU device, 65536 on a GPU)"},
              {"large-step", "0.3", "probability of a large step (every random number drawn anew)"},
              {"sigma", "0.01", "small step: standard deviation of the wrapped Gaussian offset"},
              {"steps-per-dispatch", "4", "mutations per chain per dispatch"}},
