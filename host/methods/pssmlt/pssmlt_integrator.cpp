@@ -185,12 +185,17 @@ RenderOutput Pssmlt::render(RenderSession& session) {
         {"dimensions", dimensions},
         {"deposit_energy", depositEnergy},
         {"mutations", mutations},
+        {"accepted", accepted},
         {"acceptance", proposed > 0 ? double(accepted) / double(proposed) : 0.0},
         // Each mutation deposits one e_d in all (a at y, 1 - a at x): zero up to float rounding
         // of the sums, unless deposits were dropped.
         {"energy_not_deposited", mutations > 0 ? 1.0 - deposited / double(mutations) : 0.0},
     };
     out.methodStats.update(mutationStatistics(c));
+    // ERPT's perturbations do not run here.
+    for (const char* key : {"lens_proposed", "lens_acceptance", "caustic_proposed", "caustic_acceptance",
+                            "invalid_proposals"})
+        out.methodStats.erase(key);
     return out;
 }
 
