@@ -6,6 +6,7 @@
 #include "methods/pmc_er/pmc_er_integrator.h"
 #include "methods/pmc_ip/pmc_ip_integrator.h"
 #include "methods/pmc_pt/pmc_pt_integrator.h"
+#include "methods/pssmlt/pssmlt_integrator.h"
 #include "methods/pt/pt_integrator.h"
 
 namespace pmcr {
@@ -23,6 +24,7 @@ const std::vector<MethodInfo>& methods() {
         pmcErMethod(),
         pmcPtMethod(),
         mltMethod(),
+        pssmltMethod(),
     };
     return list;
 }

@@ -36,6 +36,7 @@ using uint64_t = std::uint64_t;
 #include "shared/pmc_hi_types.h"
 #include "shared/pmc_er_types.h"
 #include "shared/mlt_types.h"
+#include "shared/pssmlt_types.h"
 
 #ifdef __cplusplus
 }  // namespace pmcr::gpu

@@ -70,6 +70,11 @@ expect_error "zero samples" "--spp" -- render "$src/scenes/furnace.glb" --spp 0 
 expect_error "missing value" "--spp: missing value" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.exr" --spp
 expect_error "bad method option value" "--chain-length" -- render "$src/scenes/furnace.glb" --method erpt --chain-length 0 -o "$tmp/out/x.exr"
 expect_error "option of another method" "--chain-length.*pt" -- render "$src/scenes/furnace.glb" --method pt --chain-length 5 -o "$tmp/out/x.exr"
+expect_error "pssmlt large-step probability" "--large-step" -- render "$src/scenes/furnace.glb" --method pssmlt --large-step 1.5 -o "$tmp/out/x.exr"
+expect_error "pssmlt sigma" "--sigma" -- render "$src/scenes/furnace.glb" --method pssmlt --sigma 0 -o "$tmp/out/x.exr"
+expect_error "pssmlt bootstrap" "--bootstrap" -- render "$src/scenes/furnace.glb" --method pssmlt --bootstrap 0 -o "$tmp/out/x.exr"
+expect_error "pssmlt chains" "--chains" -- render "$src/scenes/furnace.glb" --method pssmlt --chains -3 -o "$tmp/out/x.exr"
+expect_error "pssmlt depth beyond its storage" "--max-depth.*pssmlt" -- render "$src/scenes/furnace.glb" --method pssmlt --max-depth 101 -o "$tmp/out/x.exr"
 expect_error "bad output extension" "x\.jpg" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.jpg"
 expect_error "missing output directory" "nodir" -- render "$src/scenes/furnace.glb" -o "$tmp/out/nodir/x.exr"
 expect_error "unknown device" "no-such-gpu" -- render "$src/scenes/furnace.glb" --device no-such-gpu -o "$tmp/out/x.exr"

@@ -54,4 +54,12 @@ for key in chains_started lens_proposed lens_acceptance caustic_proposed caustic
     grep -qE "^  $key +[0-9.e+-]+$" "$tmp/erpt-stats" || fail "erpt --stats lacks $key: $(cat "$tmp/erpt-stats")"
 done
 grep -qE '^  methods/erpt/erpt_chains +[0-9.]+ ms' "$tmp/erpt-stats" || fail "erpt --stats lacks the chain kernel's GPU time"
+# PSSMLT's: mutations proposed and accepted, acceptance per step type, the bootstrap's b_hat.
+"$pmcr" render "$src/scenes/cornell-glass.glb" --method pssmlt --spp 1 \
+    --width 16 --height 16 -q --stats --no-png -o "$tmp/p.exr" >"$tmp/pssmlt-stats" || fail "pssmlt --stats render failed"
+for key in passes bootstrap_samples normalization chains mutations acceptance large_step_proposed \
+           large_step_acceptance small_step_proposed small_step_acceptance deposit_energy; do
+    grep -qE "^  $key +[0-9.e+-]+$" "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks $key: $(cat "$tmp/pssmlt-stats")"
+done
+grep -qE '^  methods/pssmlt/pssmlt_chains +[0-9.]+ ms' "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks the chain kernel's GPU time"
 echo ok

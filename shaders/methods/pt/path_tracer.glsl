@@ -7,6 +7,12 @@
 // Depth semantics (pbrt-v4): maxDepth is the number of bounces; maxDepth = 1 is direct lighting.
 // With PT_RECORD_PATHS defined, every eye vertex and its light connection is written to a
 // PathRecord (shared/path_types.h) for the perturbation kernels.
+//
+// Every random number is drawn through samplerGet1D / samplerGet2D, in an order fixed by the
+// path: the raster position (2D, the caller's), then per bounce uLight, uLightPoint, uLobe, uDir
+// and uRoulette (a bounce draws all of them unless its path ends there). A kernel that defines
+// PMCR_CUSTOM_SAMPLER supplies its own Sampler and samplerGet1D/2D before including this file
+// (PSSMLT: methods/pssmlt/pss_sampler.glsl); otherwise common/sampler.glsl's are used.
 #ifndef PMCR_PATH_TRACER_GLSL
 #define PMCR_PATH_TRACER_GLSL
 
@@ -15,7 +21,9 @@
 #include "common/lights.glsl"
 #include "common/octahedral.glsl"
 #include "common/punctual_sampling.glsl"
+#ifndef PMCR_CUSTOM_SAMPLER
 #include "common/sampler.glsl"
+#endif
 #include "common/shading.glsl"
 
 #ifdef PT_RECORD_PATHS

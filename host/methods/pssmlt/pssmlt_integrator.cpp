@@ -1,0 +1,215 @@
+#include "methods/pssmlt/pssmlt_integrator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "methods/energy_redistribution/redistribution.h"
+#include "methods/energy_redistribution/splat_film.h"
+#include "methods/metropolis/bootstrap.h"
+#include "methods/pt/pt_integrator.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per dispatch (CPU)
+constexpr VkDeviceSize kMaxPrimaryBytes = 1ull << 30;   // primary-sample storage
+
+}  // namespace
+
+PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
+    PssmltOptions o;
+    const int bootstrap = s.optionInt("bootstrap", int(o.bootstrapSpp));
+    if (bootstrap < 1 || bootstrap > 4096) throw Error("--bootstrap: expected 1..4096 samples per pixel");
+    o.bootstrapSpp = uint32_t(bootstrap);
+    const int chains = s.optionInt("chains", 0);
+    if (chains < 0 || uint32_t(chains) > kMaxChains)
+        throw Error("--chains: expected 0.." + std::to_string(kMaxChains) + " (0: automatic)");
+    o.chains = uint32_t(chains);
+    o.largeStepProbability = float(s.optionDouble("large-step", o.largeStepProbability));
+    if (!(o.largeStepProbability >= 0.0f && o.largeStepProbability <= 1.0f))
+        throw Error("--large-step: expected a probability in [0, 1]");
+    o.sigma = float(s.optionDouble("sigma", o.sigma));
+    if (!(o.sigma > 0.0f && o.sigma <= 1.0f)) throw Error("--sigma: expected 0 < sigma <= 1");
+    const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
+    if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
+    o.stepsPerDispatch = uint32_t(steps);
+    if (s.maxDepth > gpu::PSSMLT_MAX_DEPTH)
+        throw Error("--max-depth: pssmlt holds the random numbers of at most " +
+                    std::to_string(gpu::PSSMLT_MAX_DEPTH) + " bounces");
+    return o;
+}
+
+Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
+
+RenderOutput Pssmlt::render(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const PssmltOptions& o = m_options;
+    const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
+    const uint32_t spp = settings.spp > 0 ? settings.spp
+                         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
+                                                    : kDefaultSpp;
+    const uint32_t chains =
+        o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::defaultChains(context.isCpuDevice()));
+    const uint32_t dimensions = PSSMLT_DIMENSIONS(settings.maxDepth);
+    const VkDeviceSize primaryBytes = VkDeviceSize(chains) * dimensions * sizeof(gpu::PrimarySample);
+    if (primaryBytes > kMaxPrimaryBytes)
+        throw Error("pssmlt: " + std::to_string(chains) + " chains of " + std::to_string(dimensions) +
+                    " random numbers need " + std::to_string(primaryBytes >> 20) +
+                    " MiB (at most 1024); lower --chains or --max-depth");
+    // One pass: about one mutation per pixel.
+    const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
+    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
+    if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
+        throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
+
+    // Build the pipelines before the clock starts (compilation is not rendering).
+    const vk::Kernel& bootstrapKernel =
+        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bootstrap"));
+    const vk::Kernel& chainKernel =
+        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_chains"));
+    session.startClock();
+
+    Film& film = session.film();
+    SplatFilm splat(context, session.width(), session.height());
+    vk::Buffer weights(context, bootstrapSamples * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "bootstrap weights", vk::MemoryUsage::Readback);
+    vk::Buffer starts(context, VkDeviceSize(chains) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      "chain starts");
+    vk::Buffer chainStates(context, VkDeviceSize(chains) * sizeof(gpu::PssmltChain),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pssmlt chains");
+    vk::Buffer primary(context, primaryBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "primary samples");
+
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pssmlt");
+    work.bind(gpu::PSSMLT_BINDING_WEIGHTS, weights);
+    work.bind(gpu::PSSMLT_BINDING_CHAIN_STARTS, starts);
+    work.bind(gpu::PSSMLT_BINDING_CHAINS, chainStates);
+    work.bind(gpu::PSSMLT_BINDING_PRIMARY_SAMPLES, primary);
+    work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
+    work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
+
+    gpu::PssmltPush push{};
+    push.seed = settings.seed;
+    push.maxDepth = settings.maxDepth;
+    push.rrDepth = settings.rrDepth;
+    push.dimensions = dimensions;
+    push.chainStride = chains;
+    push.largeStepProbability = o.largeStepProbability;
+    push.sigma = o.sigma;
+
+    // Bootstrap: F of uniform primary vectors, W_i = F(u_i) * pixels (Veach 1997 sec. 11.3.1).
+    const uint32_t chunk = context.isCpuDevice() ? kBootstrapChunk : uint32_t(bootstrapSamples);
+    bool interrupted = false;
+    for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chunk) {
+        batches.begin();
+        batch.bind(work);
+        push.first = first;
+        push.count = std::min<uint32_t>(chunk, uint32_t(bootstrapSamples) - first);
+        push.itemsPerInvocation = ptItemsPerInvocation(context, push.count);
+        batch.dispatch(bootstrapKernel, push, (push.count + push.itemsPerInvocation - 1) / push.itemsPerInvocation);
+        batches.submit();
+        interrupted = session.interrupted();
+    }
+    MetropolisStart start;
+    if (!interrupted) {
+        std::vector<float> w = weights.download<float>(bootstrapSamples);
+        for (float& x : w) x *= float(pixels);
+        start = chooseChainStarts(w, chains, settings.seed);
+    }
+    const double normalization = start.normalization;
+    // e_d: each pass's chains * steps deposits share b (the image's total luminance).
+    const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
+
+    uint64_t mutations = 0;
+    DispatchSizer sizer(1024, chains, session.targetDispatchSeconds());
+    auto runChains = [&](uint32_t steps, uint32_t flags) {
+        push.steps = steps;
+        push.flags = flags;
+        for (uint32_t c = 0; c < chains;) {
+            push.first = c;
+            push.count = std::min(sizer.units(), chains - c);
+            const auto t0 = std::chrono::steady_clock::now();
+            batches.begin();
+            batch.bind(work);
+            batch.dispatch(chainKernel, push, push.count);
+            batches.submit();
+            sizer.record(uint64_t(push.count) * std::max(steps, 1u),
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            c += push.count;
+        }
+    };
+    if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
+        starts.upload(start.samples);
+        runChains(0, gpu::PSSMLT_FLAG_START);
+        for (uint32_t pass = 0; pass < spp && !session.shouldStop() && !interrupted; ++pass) {
+            for (uint32_t done = 0; done < stepsPerPass;) {
+                const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
+                runChains(steps, 0);
+                mutations += uint64_t(chains) * steps;
+                done += steps;
+                if (session.interrupted()) {
+                    interrupted = true;
+                    break;
+                }
+            }
+            if (interrupted) break;
+            completeRedistributionPass(session, splat, depositEnergy, pixels, pass, spp);
+        }
+    }
+    session.progress().finish();
+
+    RenderOutput out;
+    out.image = splat.resolve(depositEnergy);
+    const int passes = splat.completedPasses();
+    out.cameraSamples = uint64_t(passes) * pixels;
+    out.samplesPerPixel = passes;
+    const Counters& c = session.counters();
+    const uint64_t proposed = c.values[gpu::COUNTER_LARGE_PROPOSED] + c.values[gpu::COUNTER_SMALL_PROPOSED];
+    const uint64_t accepted = c.values[gpu::COUNTER_LARGE_ACCEPTED] + c.values[gpu::COUNTER_SMALL_ACCEPTED];
+    const double deposited = batches.depositedEnergy();
+    out.methodStats = {
+        {"passes", passes},
+        {"bootstrap_samples", bootstrapSamples},
+        {"normalization", normalization},  // b_hat: the image's total luminance
+        {"chains", chains},
+        {"steps_per_pass", stepsPerPass},  // per chain
+        {"dimensions", dimensions},
+        {"deposit_energy", depositEnergy},
+        {"mutations", mutations},
+        {"accepted", accepted},
+        {"acceptance", proposed > 0 ? double(accepted) / double(proposed) : 0.0},
+        // Each mutation deposits one e_d in all (a at y, 1 - a at x): zero up to float rounding
+        // of the sums, unless deposits were dropped.
+        {"energy_not_deposited", mutations > 0 ? 1.0 - deposited / double(mutations) : 0.0},
+    };
+    out.methodStats.update(mutationStatistics(c));
+    // ERPT's perturbations do not run here.
+    for (const char* key : {"lens_proposed", "lens_acceptance", "caustic_proposed", "caustic_acceptance",
+                            "invalid_proposals"})
+        out.methodStats.erase(key);
+    return out;
+}
+
+MethodInfo pssmltMethod() {
+    return {"pssmlt",
+            "primary-sample-space MLT (Kelemen et al. 2002) over the path tracer; large steps make it "
+            "ergodic over everything pt samples",
+            true,
+            {{"bootstrap", "4", "path-traced samples per pixel estimating b and starting the chains"},
+             {"chains", "0", "chains in parallel (0: one per pixel, at most 4096 on a CPU device, 65536 on a GPU)"},
+             {"large-step", "0.3", "probability of a large step (every random number drawn anew)"},
+             {"sigma", "0.01", "small step: standard deviation of the wrapped Gaussian offset"},
+             {"steps-per-dispatch", "4", "mutations per chain per dispatch"}},
+            [](const RenderSettings& s) { return std::make_unique<Pssmlt>(s); }, ""};
+}
+
+}  // namespace pmcr

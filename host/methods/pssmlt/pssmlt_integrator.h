@@ -1,0 +1,55 @@
+// Primary-sample-space Metropolis light transport (Kelemen, Szirmay-Kalos, Antal and Csonka
+// 2002) over the path tracer. A chain's state is the vector of the path tracer's random numbers
+// (shared/pssmlt_types.h); its target is F(u) = lum(L(u)), L(u) the path tracer's whole estimate
+// for u (every NEE and MIS-weighted emission term). Small steps add a wrapped Gaussian offset of
+// --sigma to every coordinate, large steps (probability --large-step) draw them anew; both are
+// symmetric, so a = min(1, F(y) / F(x)) (shaders/methods/pssmlt/).
+//
+// A bootstrap of --bootstrap uniform samples per pixel estimates b = the image's total luminance
+// and starts the chains at samples drawn in proportion to their weight (Veach 1997 sec. 11.3.1:
+// no start-up bias; host/methods/metropolis/bootstrap.h). One pass is about one mutation per
+// pixel: steps = max(1, round(pixels / chains)) per chain, each depositing by expected values
+// a e_d at the proposal and (1 - a) e_d at the current path, e_d = b / (chains steps), so each
+// pass is an unbiased image and --spp N averages N passes (host/methods/energy_redistribution:
+// SplatFilm, RedistributionBatch).
+//
+// Options and their defaults are listed in pssmltMethod() (pssmlt_integrator.cpp).
+#pragma once
+
+#include "render/integrator.h"
+#include "render/method_info.h"
+
+namespace pmcr {
+
+struct PssmltOptions {
+    uint32_t bootstrapSpp = 4;           // bootstrap samples per pixel
+    uint32_t chains = 0;                 // 0: min(pixels, defaultChains(device))
+    float largeStepProbability = 0.3f;   // Kelemen et al. 2002 sec. 4: p_large
+    float sigma = 0.01f;                 // small step: wrapped Gaussian (pbrt-v3 MLTSampler)
+    uint32_t stepsPerDispatch = 4;
+
+    static constexpr uint32_t kMaxChains = 1u << 20;
+    // Chains when --chains is 0 (at most one per pixel). On lavapipe fewer, longer chains run
+    // faster: the primary-sample storage of 16384 chains (32 MiB at depth 16) overflows the
+    // caches, and a mutation took 5.8 us there against 4.2 us with 4096 (cornell-glass 160x120);
+    // a GPU needs many more invocations in flight.
+    static uint32_t defaultChains(bool cpuDevice) { return cpuDevice ? 4096u : 65536u; }
+
+    static PssmltOptions fromSettings(const RenderSettings& settings);
+};
+
+class Pssmlt : public Integrator {
+public:
+    explicit Pssmlt(const RenderSettings& settings);
+    RenderOutput render(RenderSession& session) override;
+
+    static constexpr uint32_t kDefaultSpp = 64;
+
+private:
+    PssmltOptions m_options;
+};
+
+// The registry entry of `pssmlt` (render/methods.cpp).
+MethodInfo pssmltMethod();
+
+}  // namespace pmcr

@@ -1,0 +1,92 @@
+// The path tracer's sampler over a chain's primary sample vector (Kelemen et al. 2002 sec. 3):
+// samplerGet1D / samplerGet2D read the chain's coordinates in order, mutating each lazily when
+// it is first read in an iteration, as pbrt-v3's MLTSampler does (Pharr, Jakob and Humphreys,
+// PBR 3rd ed., sec. 16.4.3): a coordinate last set at iteration m, read at iteration t,
+//   - is drawn anew (uniform) when a large step was accepted after m (the value it would have
+//     had since), then
+//   - is drawn anew when this iteration is a large step, or else takes the t - m small steps of
+//     the accepted iterations in between in one (smallStep, pss_mutation.glsl).
+// Iterations count accepted steps plus the one being proposed: on rejection every coordinate
+// set in this iteration goes back to its backup and the iteration number is reused.
+//
+// Defines the Sampler of shaders/methods/pt/path_tracer.glsl (PMCR_CUSTOM_SAMPLER): include this
+// file before it. The including kernel declares nothing else at
+// PSSMLT_BINDING_PRIMARY_SAMPLES.
+#ifndef PMCR_PSS_SAMPLER_GLSL
+#define PMCR_PSS_SAMPLER_GLSL
+
+#define PMCR_CUSTOM_SAMPLER
+#include "methods/pssmlt/pss_mutation.glsl"
+
+layout(set = WORK_SET, binding = PSSMLT_BINDING_PRIMARY_SAMPLES, scalar) buffer PrimarySampleBuffer {
+    PrimarySample primarySamples[];
+};
+
+struct Sampler {
+    uint chain;          // column of the primary-sample storage
+    uint stride;         // its row length (chains allocated)
+    uint dimensions;     // coordinates stored per chain
+    uint dimension;      // next coordinate to read
+    uint iteration;      // the iteration being proposed (0: the start, nothing mutates)
+    uint lastLargeStep;  // the iteration of the last accepted large step
+    bool largeStep;
+    float sigma;
+    Rng rng;
+};
+
+// Brings coordinate `dimension` up to date for this iteration (pbrt-v3 MLTSampler::EnsureReady)
+// and returns it.
+float pssCoordinate(inout Sampler s) {
+    uint d = s.dimension;
+    s.dimension += 1u;
+    // Beyond the storage (never with dimensions = PSSMLT_DIMENSIONS(maxDepth)): a fresh number.
+    if (d >= s.dimensions) return rngNext(s.rng);
+    uint index = d * s.stride + s.chain;
+    PrimarySample x = primarySamples[index];
+    if (x.lastModification == s.iteration) return x.value;  // the start, or read twice
+    // A large step accepted since x was set resampled it.
+    if (x.lastModification < s.lastLargeStep) {
+        x.value = rngNext(s.rng);
+        x.lastModification = s.lastLargeStep;
+    }
+    x.valueBackup = x.value;
+    x.modificationBackup = x.lastModification;
+    if (s.largeStep) x.value = rngNext(s.rng);
+    else x.value = smallStep(x.value, s.sigma, s.iteration - x.lastModification, s.rng);
+    x.lastModification = s.iteration;
+    primarySamples[index] = x;
+    return x.value;
+}
+
+float samplerGet1D(inout Sampler s) { return pssCoordinate(s); }
+
+vec2 samplerGet2D(inout Sampler s) {
+    float u = pssCoordinate(s);
+    return vec2(u, pssCoordinate(s));
+}
+
+// Starts a proposal: iteration + 1, a large step with probability `largeStepProbability`.
+void pssBeginIteration(inout Sampler s, float largeStepProbability) {
+    s.iteration += 1u;
+    s.largeStep = rngNext(s.rng) < largeStepProbability;
+    s.dimension = 0u;
+}
+
+void pssAccept(inout Sampler s) {
+    if (s.largeStep) s.lastLargeStep = s.iteration;
+}
+
+// Restores the coordinates this iteration changed (those read, 0 .. dimension - 1).
+void pssReject(inout Sampler s) {
+    uint n = min(s.dimension, s.dimensions);
+    for (uint d = 0u; d < n; ++d) {
+        uint index = d * s.stride + s.chain;
+        if (primarySamples[index].lastModification == s.iteration) {
+            primarySamples[index].value = primarySamples[index].valueBackup;
+            primarySamples[index].lastModification = primarySamples[index].modificationBackup;
+        }
+    }
+    s.iteration -= 1u;
+}
+
+#endif
