@@ -70,6 +70,9 @@ expect_error "zero samples" "--spp" -- render "$src/scenes/furnace.glb" --spp 0 
 expect_error "missing value" "--spp: missing value" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.exr" --spp
 expect_error "bad method option value" "--chain-length" -- render "$src/scenes/furnace.glb" --method erpt --chain-length 0 -o "$tmp/out/x.exr"
 expect_error "option of another method" "--chain-length.*pt" -- render "$src/scenes/furnace.glb" --method pt --chain-length 5 -o "$tmp/out/x.exr"
+expect_error "mlt large-step zero" "--large-step" -- render "$src/scenes/furnace.glb" --method mlt --large-step 0 -o "$tmp/out/x.exr"
+expect_error "mlt mutation" "--mutation" -- render "$src/scenes/furnace.glb" --method mlt --mutation bogus -o "$tmp/out/x.exr"
+expect_error "mlt bootstrap" "--bootstrap" -- render "$src/scenes/furnace.glb" --method mlt --bootstrap 0 -o "$tmp/out/x.exr"
 expect_error "pssmlt large-step probability" "--large-step" -- render "$src/scenes/furnace.glb" --method pssmlt --large-step 1.5 -o "$tmp/out/x.exr"
 expect_error "pssmlt sigma" "--sigma" -- render "$src/scenes/furnace.glb" --method pssmlt --sigma 0 -o "$tmp/out/x.exr"
 expect_error "pssmlt bootstrap" "--bootstrap" -- render "$src/scenes/furnace.glb" --method pssmlt --bootstrap 0 -o "$tmp/out/x.exr"

@@ -62,4 +62,12 @@ for key in passes bootstrap_samples normalization chains mutations acceptance la
     grep -qE "^  $key +[0-9.e+-]+$" "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks $key: $(cat "$tmp/pssmlt-stats")"
 done
 grep -qE '^  methods/pssmlt/pssmlt_chains +[0-9.]+ ms' "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks the chain kernel's GPU time"
+# MLT's: proposals and acceptance per mutation type, b_hat.
+"$pmcr" render "$src/scenes/cornell-glass.glb" --method mlt --spp 1 \
+    --width 16 --height 16 -q --stats --no-png -o "$tmp/m.exr" >"$tmp/mlt-stats" || fail "mlt --stats render failed"
+for key in passes bootstrap_samples normalization chains mutations_per_pixel acceptance lens_proposed \
+           lens_acceptance caustic_proposed caustic_acceptance large_step_proposed large_step_acceptance deposit_energy; do
+    grep -qE "^  $key +[0-9.e+-]+$" "$tmp/mlt-stats" || fail "mlt --stats lacks $key: $(cat "$tmp/mlt-stats")"
+done
+grep -qE '^  methods/mlt/mlt_chains +[0-9.]+ ms' "$tmp/mlt-stats" || fail "mlt --stats lacks the chain kernel's GPU time"
 echo ok
