@@ -6,14 +6,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <set>
 
 #include "gpu_test.h"
 #include "render_test.h"
-#include "scene/gltf_loader.h"
 #include "statistics.h"
-#include "test_util.h"
 
 namespace pmcr::test {
 namespace {
@@ -106,51 +102,6 @@ TEST_F(PssmltTest, UnbiasedWithLongChains) {
     s.options["sigma"] = "0.05";
     expectUnbiased(s, 40);
 }
-
-std::vector<std::string> sceneFiles() {
-    std::vector<std::string> files;
-    for (const auto& entry : std::filesystem::directory_iterator(sourcePath("scenes"))) {
-        const auto ext = entry.path().extension();
-        if (ext == ".glb" || ext == ".gltf") files.push_back("scenes/" + entry.path().filename().string());
-    }
-    std::sort(files.begin(), files.end());
-    return files;
-}
-
-// Third-party samples without a light of their own are lit by the shipped sky
-// (tests/stat/test_scenes_render.cpp).
-const std::set<std::string> kLitBySky = {"scenes/MetalRoughSpheresNoTextures.glb"};
-
-class PssmltSceneRenders : public GpuTest, public ::testing::WithParamInterface<std::string> {};
-
-TEST_P(PssmltSceneRenders, RendersWithoutNaNs) {
-    Scene litBySky;
-    if (kLitBySky.count(GetParam()))
-        litBySky = loadScene(sourcePath(GetParam()), {sourcePath("scenes/sky-afternoon.exr").string()});
-    const Scene& scene = kLitBySky.count(GetParam()) ? litBySky : testScene(GetParam());
-    RenderSettings s;
-    s.method = "pssmlt";
-    s.spp = 2;
-    s.width = 32;
-    s.height = 24;
-    auto r = renderForTest(scene, s);
-    EXPECT_EQ(r.stats["nan_samples_dropped"].get<uint64_t>(), 0u);
-    EXPECT_EQ(r.stats["method_stats"]["deposits_dropped"].get<uint64_t>(), 0u);
-    double sum = 0.0;
-    for (float v : r.output.image.rgb) {
-        ASSERT_TRUE(std::isfinite(v));
-        sum += v;
-    }
-    EXPECT_GT(sum, 0.0) << "an all-black image";
-}
-
-INSTANTIATE_TEST_SUITE_P(AllScenes, PssmltSceneRenders, ::testing::ValuesIn(sceneFiles()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                             std::string name = std::filesystem::path(info.param).stem().string();
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
 
 }  // namespace
 }  // namespace pmcr::test

@@ -1,5 +1,6 @@
-// Every scene in scenes/ loads, has a light, and renders a few samples of path tracing without
-// a single NaN/Inf sample and without an all-black image. Third-party samples without a light of
+// Every scene in scenes/ loads, has a light, and renders a few samples of path tracing, and a
+// few mutations per pixel of the Metropolis methods (mlt, pssmlt: their own path construction),
+// without a single NaN/Inf sample or dropped deposit and without an all-black image. Third-party samples without a light of
 // their own (glTF sample models) are lit by the shipped sky, as scenes/README.md says to.
 #include <gtest/gtest.h>
 
@@ -24,25 +25,28 @@ std::vector<std::string> sceneFiles() {
     return files;
 }
 
-class SceneRenders : public GpuTest, public ::testing::WithParamInterface<std::string> {};
+class SceneRenders : public GpuTest,
+                     public ::testing::WithParamInterface<std::tuple<std::string, std::string>> {};
 
 const std::set<std::string> kLitBySky = {"scenes/MetalRoughSpheresNoTextures.glb"};
 
 TEST_P(SceneRenders, LoadsHasALightAndRendersWithoutNaNs) {
+    const auto& [file, method] = GetParam();
     Scene litBySky;
-    if (kLitBySky.count(GetParam()))
-        litBySky = loadScene(sourcePath(GetParam()), {sourcePath("scenes/sky-afternoon.exr").string()});
-    const Scene& scene = kLitBySky.count(GetParam()) ? litBySky : testScene(GetParam());
+    if (kLitBySky.count(file))
+        litBySky = loadScene(sourcePath(file), {sourcePath("scenes/sky-afternoon.exr").string()});
+    const Scene& scene = kLitBySky.count(file) ? litBySky : testScene(file);
     EXPECT_TRUE(!buildEmitters(scene).emitters.empty() || !scene.punctualLights.empty() ||
                 scene.environment.kind != gpu::ENV_NONE);
     EXPECT_FALSE(scene.cameras.empty());
     RenderSettings s;
-    s.method = "pt";
+    s.method = method;
     s.spp = 2;
     s.width = 32;
     s.height = 24;
     auto r = renderForTest(scene, s);
     EXPECT_EQ(r.stats["nan_samples_dropped"].get<uint64_t>(), 0u);
+    if (method != "pt") EXPECT_EQ(r.stats["method_stats"]["deposits_dropped"].get<uint64_t>(), 0u);
     double sum = 0.0;
     for (float v : r.output.image.rgb) {
         ASSERT_TRUE(std::isfinite(v));
@@ -51,9 +55,12 @@ TEST_P(SceneRenders, LoadsHasALightAndRendersWithoutNaNs) {
     EXPECT_GT(sum, 0.0) << "an all-black image";
 }
 
-INSTANTIATE_TEST_SUITE_P(AllScenes, SceneRenders, ::testing::ValuesIn(sceneFiles()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                             std::string name = std::filesystem::path(info.param).stem().string();
+INSTANTIATE_TEST_SUITE_P(AllScenes, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()),
+                                            ::testing::Values("pt", "mlt", "pssmlt")),
+                         [](const auto& info) {
+                             std::string name = std::filesystem::path(std::get<0>(info.param)).stem().string() +
+                                                "_" + std::get<1>(info.param);
                              for (char& c : name)
                                  if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                              return name;
