@@ -24,5 +24,9 @@ struct MltPush {
     float causticThetaMin;   // radians
     float causticThetaMax;
     float causticProbability;
+    uint minVertices;        // paths of fewer vertices have F = 0 (--direct separate: 3)
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
-PMCR_CHECK_SIZE(MltPush, 48);
+PMCR_CHECK_SIZE(MltPush, 64);

@@ -81,6 +81,7 @@ RenderSettings settingsFor(const std::string& method, uint32_t spp) {
         s.options["mutation"] = "mix";
         s.options["lens-radius"] = "8";
         s.options["bootstrap"] = "64";
+        s.options["direct"] = "chains";  // the sampler's density for direct paths to each light too
     } else if (method == "pmc-er") {
         s.options["population"] = "400";
         s.options["mutations"] = "4";

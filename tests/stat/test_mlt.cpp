@@ -42,6 +42,7 @@ TEST_F(MltTest, SameSeedSameImageBitForBit) {
 TEST_F(MltTest, StepsDepositTheirEnergyAndEveryMutationRuns) {
     RenderSettings s = mltSettings(32, 4);
     s.options["mutation"] = "mix";
+    s.options["direct"] = "chains";  // every path by the chains: the image is theirs alone
     auto r = renderForTest(testScene("scenes/cornell-glass.glb"), s);
     const auto& m = r.stats["method_stats"];
     EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
@@ -54,6 +55,17 @@ TEST_F(MltTest, StepsDepositTheirEnergyAndEveryMutationRuns) {
     const glm::dvec3 mean = imageMean(r.output.image);
     const double luminance = 0.2126 * mean.x + 0.7152 * mean.y + 0.0722 * mean.z;
     EXPECT_NEAR(luminance * 32 * 32, m["normalization"].get<double>(), 1e-3 * m["normalization"].get<double>());
+}
+
+// With --direct separate (the default) a scene lit only directly leaves the chains nothing: the
+// image is the depth-1 path tracer's, and it is not black.
+TEST_F(MltTest, DirectOnlyDepthLeavesTheChainsNothing) {
+    RenderSettings s = mltSettings(16, 2);
+    s.maxDepth = 1;
+    auto r = renderForTest(testScene("scenes/cornell-glass.glb"), s);
+    EXPECT_EQ(r.stats["method_stats"]["chain_steps"].get<uint64_t>(), 0u);
+    EXPECT_EQ(r.stats["method_stats"]["direct_passes"].get<uint64_t>(), 2u);
+    EXPECT_GT(imageMean(r.output.image).y, 0.01);
 }
 
 TEST_F(MltTest, FurnaceGivesItsAnalyticValue) {
@@ -94,9 +106,16 @@ TEST_F(MltTest, UnbiasedAgainstPathTracing) {
     expectUnbiased(s, 40);
 }
 
+TEST_F(MltTest, UnbiasedWithEveryPathInTheChains) {
+    RenderSettings s = mltSettings(20, 16);
+    s.options["direct"] = "chains";
+    expectUnbiased(s, 40);
+}
+
 TEST_F(MltTest, IndependenceSamplerAloneIsUnbiased) {
     RenderSettings s = mltSettings(20, 16);
     s.options["large-step"] = "1";
+    s.options["direct"] = "chains";  // p of every path length, direct paths included
     expectUnbiased(s, 40);
 }
 

@@ -10,6 +10,7 @@
 #include "methods/energy_redistribution/splat_film.h"
 #include "methods/metropolis/bootstrap.h"
 #include "methods/pt/pt_integrator.h"
+#include "render/film.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
 
@@ -47,6 +48,10 @@ MltOptions MltOptions::fromSettings(const RenderSettings& s) {
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
+    const std::string direct = s.optionString("direct", "separate");
+    if (direct != "separate" && direct != "chains")
+        throw Error("--direct: expected separate or chains, got '" + direct + "'");
+    o.separateDirect = direct == "separate";
     return o;
 }
 
@@ -71,6 +76,7 @@ RenderOutput Mlt::render(RenderSession& session) {
     };
     const vk::Kernel& seedKernel = kernel("methods/mlt/mlt_seed");
     const vk::Kernel& chainKernel = kernel("methods/mlt/mlt_chains");
+    const vk::Kernel& directKernel = session.kernel(pathTracingKernel(session.scene(), "pt"));
     session.startClock();
 
     Film& film = session.film();
@@ -99,7 +105,21 @@ RenderOutput Mlt::render(RenderSession& session) {
     RedistributionBatch batches(session);
     vk::CommandBatch& batch = batches.batch();
     work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
-
+    // --direct separate: path tracing at depth 1 into the session's film.
+    film.clear();
+    vk::DescriptorSet directWork(session.layout(), vk::DescriptorSet::Kind::Work, "mlt direct");
+    bindTileWork(directWork, film, session);
+    gpu::PtPush directPush{};
+    directPush.source = gpu::PT_SOURCE_TILE;
+    directPush.flags = gpu::PT_FLAG_DEPOSIT;
+    directPush.samplesPerPixel = 1;
+    directPush.seed = settings.seed ^ 0x6d6c7444u;
+    directPush.maxDepth = 1;
+    directPush.rrDepth = settings.rrDepth;
+    directPush.pixelOffset = 0;
+    directPush.invocationCount = pixels;
+    directPush.itemsPerInvocation = ptItemsPerInvocation(context, pixels);
+    uint32_t directPasses = 0;
     gpu::MltPush push{};
     push.seed = settings.seed;
     push.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
@@ -109,6 +129,7 @@ RenderOutput Mlt::render(RenderSession& session) {
     push.causticThetaMin = o.causticThetaMin;
     push.causticThetaMax = o.causticThetaMax;
     push.causticProbability = o.causticProbability;
+    push.minVertices = o.separateDirect ? 3 : 1;
 
     // The bootstrap: weights W_i = F / p of independent samples.
     for (uint64_t first = 0; first < bootstrapSamples && !session.interrupted(); first += kBootstrapChunk) {
@@ -128,22 +149,44 @@ RenderOutput Mlt::render(RenderSession& session) {
     // e_d: each pass's chainCount * stepsPerPass deposits of e_d sum to b_hat in expectation.
     const double depositEnergy = start.normalization / (double(chainCount) * stepsPerPass);
 
+    // Without any path for the chains (a scene lit directly only, with --direct separate), the
+    // passes are the direct ones alone.
+    const bool chainsRun = !start.samples.empty() && std::isfinite(depositEnergy) && depositEnergy > 0.0;
+    // The image: the chains' passes, plus the direct passes' average.
+    auto resolve = [&]() {
+        Image image = splat.resolve(chainsRun ? float(depositEnergy) : 0.0f);
+        if (directPasses > 0) {
+            const Image direct = resolveAverage(film.download(), session.width(), session.height());
+            for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] += direct.rgb[i];
+        }
+        return image;
+    };
+
     uint64_t chainSteps = 0;
-    if (!start.samples.empty() && std::isfinite(depositEnergy) && depositEnergy > 0.0) {
-        starts.upload(start.samples.data(), start.samples.size() * sizeof(uint32_t));
+    if (chainsRun || (o.separateDirect && !session.interrupted())) {
+        if (chainsRun) starts.upload(start.samples.data(), start.samples.size() * sizeof(uint32_t));
         batches.begin();
         batch.bind(work);
         push.flags = gpu::MLT_FLAG_START;
         push.chainBase = 0;
         push.chainCount = chainCount;
-        batch.dispatch(seedKernel, push, chainCount);
+        if (chainsRun) batch.dispatch(seedKernel, push, chainCount);
         batches.submit();
 
         push.flags = 0;
         DispatchSizer sizer(1024, chainCount, session.targetDispatchSeconds());
         for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
+            if (o.separateDirect) {
+                batches.begin();
+                batch.bind(directWork);
+                directPush.sampleBase = pass;
+                batch.dispatch(directKernel, directPush,
+                               (pixels + directPush.itemsPerInvocation - 1) / directPush.itemsPerInvocation);
+                batches.submit();
+                ++directPasses;
+            }
             bool interrupted = false;
-            for (uint32_t done = 0; done < stepsPerPass && !interrupted;) {
+            for (uint32_t done = 0; chainsRun && done < stepsPerPass && !interrupted;) {
                 push.steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
                 for (uint32_t c = 0; c < chainCount;) {
                     batches.begin();
@@ -162,13 +205,18 @@ RenderOutput Mlt::render(RenderSession& session) {
                 interrupted = session.interrupted();
             }
             if (interrupted) break;  // a partial pass would be a darker, biased image
-            completeRedistributionPass(session, splat, float(depositEnergy), pixels, pass, passes);
+            splat.completePass();
+            session.snapshotIfDue(uint64_t(splat.completedPasses()) * pixels, resolve);
+            session.progress().update(passes != std::numeric_limits<uint32_t>::max()
+                                          ? double(pass + 1) / double(passes)
+                                          : session.elapsedSeconds() / settings.timeLimit,
+                                      double(pass + 1), "passes");
         }
     }
     session.progress().finish();
 
     RenderOutput out;
-    out.image = splat.resolve(float(depositEnergy));
+    out.image = resolve();
     const auto stats = pixelStats.download<gpu::PixelChainStats>(pixels);
     const auto acceptedCounts = accepted.download<uint32_t>(pixels);
     Image chainsImage(session.width(), session.height()), proposalsImage(session.width(), session.height()),
@@ -199,6 +247,7 @@ RenderOutput Mlt::render(RenderSession& session) {
         {"mutations_per_pixel", double(done) * chainCount * stepsPerPass / pixels},
         {"chain_steps", chainSteps},
         {"large_step", o.largeStep},
+        {"direct_passes", directPasses},  // --direct separate: depth-1 path-traced passes
         {"acceptance", chainSteps > 0 ? double(c.values[gpu::COUNTER_LENS_ACCEPTED] + c.values[gpu::COUNTER_CAUSTIC_ACCEPTED] +
                                                 c.values[gpu::COUNTER_LARGE_ACCEPTED]) / double(chainSteps)
                                       : 0.0},
@@ -219,6 +268,7 @@ MethodInfo mltMethod() {
          {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
          {"caustic-theta-max", "0.1", "... to (radians)"},
          {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
+         {"direct", "separate", "separate: the emitter seen directly and direct light at the first hit by path tracing (1 spp per pass), the chains take the rest; chains: the chains take every path"},
          {"steps-per-dispatch", "4", "mutations per chain per dispatch"}},
         [](const RenderSettings& s) { return std::make_unique<Mlt>(s); }, ""};
 }

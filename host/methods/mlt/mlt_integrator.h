@@ -26,6 +26,10 @@ struct MltOptions {
     float causticThetaMax = 0.1f;
     float causticProbability = 0.5f;
     uint32_t stepsPerDispatch = 4;
+    // Paths with at most one scattering vertex (the emitter seen directly, direct light at x1)
+    // by path tracing at depth 1, one sample per pixel per pass, not by the chains (Veach 1997
+    // sec. 11.5: direct lighting by standard techniques; ERPT's --redistribute indirect).
+    bool separateDirect = true;
 
     static MltOptions fromSettings(const RenderSettings& settings);
 };

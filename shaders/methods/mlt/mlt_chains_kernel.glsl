@@ -26,7 +26,8 @@ bool independentStep(uint chain, inout ChainState st, inout Rng rng, inout StepC
     uint kY;
     vec3 throughputY = vec3(0.0), throughputX;
     float wY = 0.0;
-    if (sampleIndependentPath(yBase, push.maxDepth, rng, counters.rays, rasterY, kY))
+    // (With --direct separate, paths of fewer than push.minVertices vertices are not the chains'.)
+    if (sampleIndependentPath(yBase, push.maxDepth, rng, counters.rays, rasterY, kY) && kY >= push.minVertices)
         wY = luminance(independentWeight(yBase, kY, push.maxDepth, throughputY));
     float wX = luminance(independentWeight(pathBase(chain, st.slot), st.vertexCount, push.maxDepth, throughputX));
     float a = 0.0;

@@ -35,7 +35,7 @@ void main() {
         uint k;
         vec3 P = vec3(0.0);
         float w = 0.0;
-        if (sampleIndependentPath(base, push.maxDepth, rng, rays, raster, k))
+        if (sampleIndependentPath(base, push.maxDepth, rng, rays, raster, k) && k >= push.minVertices)
             w = luminance(independentWeight(base, k, push.maxDepth, P));
         if (!start) {
             weights[sampleIndex] = isFinite(w) && w > 0.0 ? w : 0.0;
