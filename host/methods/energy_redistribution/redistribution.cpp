@@ -43,12 +43,39 @@ void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float 
     session.progress().update(fraction, double(pass + 1), "passes");
 }
 
+namespace {
+
 uint32_t parseMutationMode(const std::string& name) {
     if (name == "erpt") return gpu::MUTATION_ERPT;
     if (name == "mix") return gpu::MUTATION_MIX;
     if (name == "lens") return gpu::MUTATION_LENS;
     if (name == "caustic") return gpu::MUTATION_CAUSTIC;
     throw Error("--mutation: expected erpt, mix, lens or caustic, got '" + name + "'");
+}
+
+}  // namespace
+
+PerturbationOptions PerturbationOptions::fromSettings(const RenderSettings& s) {
+    PerturbationOptions o;
+    o.mutationMode = parseMutationMode(s.optionString("mutation", "erpt"));
+    o.lensRadius = float(s.optionDouble("lens-radius", o.lensRadius));
+    if (!(o.lensRadius > 0.0f)) throw Error("--lens-radius: expected a positive number of pixels");
+    o.causticThetaMin = float(s.optionDouble("caustic-theta-min", o.causticThetaMin));
+    o.causticThetaMax = float(s.optionDouble("caustic-theta-max", o.causticThetaMax));
+    if (!(o.causticThetaMin > 0.0f) || !(o.causticThetaMax > o.causticThetaMin) || o.causticThetaMax > 1.5f)
+        throw Error("--caustic-theta-min/max: expected 0 < min < max <= 1.5 radians");
+    o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
+    if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
+        throw Error("--caustic-probability: expected a probability");
+    return o;
+}
+
+std::vector<MethodOption> PerturbationOptions::help() {
+    return {{"mutation", "erpt", "erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
+            {"lens-radius", "3", "lens perturbation disk radius in pixels (the ERPT paper: a 9x9 square)"},
+            {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
+            {"caustic-theta-max", "0.1", "... to (radians)"},
+            {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"}};
 }
 
 nlohmann::json mutationStatistics(const Counters& c) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "methods/energy_redistribution/splat_film.h"
+#include "render/method_info.h"
 #include "render/session.h"
 #include "vk/buffer.h"
 #include "vk/command_batch.h"
@@ -45,8 +46,19 @@ private:
 void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
                                 uint64_t pathsPerPass, uint32_t pass, uint32_t passes);
 
-// The perturbation choice --mutation names (erpt, mix, lens, caustic): gpu::MUTATION_*.
-uint32_t parseMutationMode(const std::string& name);
+// ERPT's perturbations as options, shared by erpt and mlt (which runs ERPT's own mutations):
+// which perturbation (--mutation: erpt, mix, lens, caustic), the lens disk and the caustic angles.
+struct PerturbationOptions {
+    uint32_t mutationMode = 0;        // gpu::MUTATION_*
+    float lensRadius = 3.0f;          // pixels (ERPT: a 9x9 square, area ~ a disk of radius 5)
+    float causticThetaMin = 1e-4f;    // radians (ERPT footnote 4)
+    float causticThetaMax = 0.1f;
+    float causticProbability = 0.5f;  // MUTATION_MIX
+
+    static PerturbationOptions fromSettings(const RenderSettings& settings);
+    // Their --help entries, in the method registry's form.
+    static std::vector<MethodOption> help();
+};
 
 // Proposals and acceptance per perturbation type, invalid proposals, deposits and drops.
 nlohmann::json mutationStatistics(const Counters& counters);

@@ -33,16 +33,7 @@ ErptOptions ErptOptions::fromSettings(const RenderSettings& s) {
     const int prepass = s.optionInt("prepass-spp", int(o.prepassSpp));
     if (prepass < 1 || prepass > 4096) throw Error("--prepass-spp: expected 1..4096");
     o.prepassSpp = uint32_t(prepass);
-    o.lensRadius = float(s.optionDouble("lens-radius", o.lensRadius));
-    if (!(o.lensRadius > 0.0f)) throw Error("--lens-radius: expected a positive number of pixels");
-    o.causticThetaMin = float(s.optionDouble("caustic-theta-min", o.causticThetaMin));
-    o.causticThetaMax = float(s.optionDouble("caustic-theta-max", o.causticThetaMax));
-    if (!(o.causticThetaMin > 0.0f) || !(o.causticThetaMax > o.causticThetaMin) || o.causticThetaMax > 1.5f)
-        throw Error("--caustic-theta-min/max: expected 0 < min < max <= 1.5 radians");
-    o.mutationMode = parseMutationMode(s.optionString("mutation", "erpt"));
-    o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
-    if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
-        throw Error("--caustic-probability: expected a probability");
+    o.perturbation = PerturbationOptions::fromSettings(s);
     o.expectedValues = s.optionBool("expected-values", false);
     const std::string redistribute = s.optionString("redistribute", "indirect");
     if (redistribute != "all" && redistribute != "indirect")
@@ -144,13 +135,13 @@ RenderOutput Erpt::render(RenderSession& session) {
     gpu::ErptPush push{};
     push.seed = settings.seed;
     push.chainLength = o.chainLength;
-    push.mutationMode = o.mutationMode;
+    push.mutationMode = o.perturbation.mutationMode;
     push.depositEnergy = depositEnergy;
     push.seedScale = 1.0f;  // one seed sample per pixel per pass; passes are averaged
-    push.lensRadius = o.lensRadius;
-    push.causticThetaMin = o.causticThetaMin;
-    push.causticThetaMax = o.causticThetaMax;
-    push.causticProbability = o.causticProbability;
+    push.lensRadius = o.perturbation.lensRadius;
+    push.causticThetaMin = o.perturbation.causticThetaMin;
+    push.causticThetaMax = o.perturbation.causticThetaMax;
+    push.causticProbability = o.perturbation.causticProbability;
     push.flags = (o.expectedValues ? gpu::ERPT_FLAG_EXPECTED_VALUES : 0u) |
                  (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u);
     push.consecutiveCap = o.filterConsecutive;
@@ -280,22 +271,20 @@ RenderOutput Erpt::render(RenderSession& session) {
 }
 
 MethodInfo erptMethod() {
+    std::vector<MethodOption> options = {
+        {"chain-length", "100", "mutations per chain, m"},
+        {"mutations-per-pixel", "4", "k: e_d = mean pixel luminance / k, per seed pass (--spp passes)"},
+        {"prepass-spp", "4", "path-traced samples per pixel estimating the mean luminance"}};
+    for (const MethodOption& o : PerturbationOptions::help()) options.push_back(o);
+    for (const MethodOption& o : std::vector<MethodOption>{
+             {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
+             {"redistribute", "indirect", "all seed paths, or indirect: the emitter seen directly and direct light at the first hit are deposited at their pixel"},
+             {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
+             {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
+             {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}})
+        options.push_back(o);
     return {"erpt", "energy redistribution path tracing (equal deposition, lens and caustic perturbations)",
-        true,
-        {{"chain-length", "100", "mutations per chain, m"},
-         {"mutations-per-pixel", "4", "k: e_d = mean pixel luminance / k, per seed pass (--spp passes)"},
-         {"prepass-spp", "4", "path-traced samples per pixel estimating the mean luminance"},
-         {"lens-radius", "3", "lens perturbation disk radius in pixels (the paper: a 9x9 square)"},
-         {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
-         {"caustic-theta-max", "0.1", "... to (radians)"},
-         {"mutation", "erpt", "erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
-         {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
-         {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
-         {"redistribute", "indirect", "all seed paths, or indirect: the emitter seen directly and direct light at the first hit are deposited at their pixel"},
-         {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
-         {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
-         {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}},
-        [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""};
+            true, options, [](const RenderSettings& s) { return std::make_unique<Erpt>(s); }, ""};
 }
 
 }  // namespace pmcr

@@ -10,6 +10,7 @@
 // filters of ERPT sec. 4.4 are biased and off by default.
 #pragma once
 
+#include "methods/energy_redistribution/redistribution.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
 
@@ -24,11 +25,7 @@ struct ErptOptions {
     uint32_t chainLength = 100;         // m (ERPT: 100-1000 work well)
     double mutationsPerPixel = 4.0;     // k per seed pass
     uint32_t prepassSpp = 4;
-    float lensRadius = 3.0f;            // pixels (ERPT: a 9x9 square, area ~ a disk of radius 5)
-    float causticThetaMin = 1e-4f;      // radians (ERPT footnote 4)
-    float causticThetaMax = 0.1f;
-    uint32_t mutationMode = 0;          // gpu::MUTATION_*
-    float causticProbability = 0.5f;    // MUTATION_MIX
+    PerturbationOptions perturbation;
     bool expectedValues = false;
     bool depositDirect = true;          // --redistribute indirect: direct seed paths deposited as pt
     int filterProposalsRadius = 0;      // biased: box radius of the proposal filter (3 = 7x7)

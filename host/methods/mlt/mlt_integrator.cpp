@@ -35,16 +35,7 @@ MltOptions MltOptions::fromSettings(const RenderSettings& s) {
     o.largeStep = float(s.optionDouble("large-step", o.largeStep));
     if (!(o.largeStep > 0.0f && o.largeStep <= 1.0f))
         throw Error("--large-step: expected a probability in (0, 1] (0 would not be ergodic)");
-    o.mutationMode = parseMutationMode(s.optionString("mutation", "erpt"));
-    o.lensRadius = float(s.optionDouble("lens-radius", o.lensRadius));
-    if (!(o.lensRadius > 0.0f)) throw Error("--lens-radius: expected a positive number of pixels");
-    o.causticThetaMin = float(s.optionDouble("caustic-theta-min", o.causticThetaMin));
-    o.causticThetaMax = float(s.optionDouble("caustic-theta-max", o.causticThetaMax));
-    if (!(o.causticThetaMin > 0.0f) || !(o.causticThetaMax > o.causticThetaMin) || o.causticThetaMax > 1.5f)
-        throw Error("--caustic-theta-min/max: expected 0 < min < max <= 1.5 radians");
-    o.causticProbability = float(s.optionDouble("caustic-probability", o.causticProbability));
-    if (!(o.causticProbability >= 0.0f && o.causticProbability <= 1.0f))
-        throw Error("--caustic-probability: expected a probability");
+    o.perturbation = PerturbationOptions::fromSettings(s);
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
@@ -123,12 +114,12 @@ RenderOutput Mlt::render(RenderSession& session) {
     gpu::MltPush push{};
     push.seed = settings.seed;
     push.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
-    push.mutationMode = o.mutationMode;
+    push.mutationMode = o.perturbation.mutationMode;
     push.largeStep = o.largeStep;
-    push.lensRadius = o.lensRadius;
-    push.causticThetaMin = o.causticThetaMin;
-    push.causticThetaMax = o.causticThetaMax;
-    push.causticProbability = o.causticProbability;
+    push.lensRadius = o.perturbation.lensRadius;
+    push.causticThetaMin = o.perturbation.causticThetaMin;
+    push.causticThetaMax = o.perturbation.causticThetaMax;
+    push.causticProbability = o.perturbation.causticProbability;
     push.minVertices = o.separateDirect ? 3 : 1;
 
     // The bootstrap: weights W_i = F / p of independent samples.
@@ -258,19 +249,15 @@ RenderOutput Mlt::render(RenderSession& session) {
 }
 
 MethodInfo mltMethod() {
+    std::vector<MethodOption> options = {
+        {"bootstrap", "4", "bootstrap samples per pixel: b and the chains' start paths"},
+        {"chains", "0", "chains run in parallel (0: pixels / 16, within 1024..65536)"},
+        {"large-step", "0.25", "probability of an independent mutation (a fresh path); > 0 keeps the chains ergodic: the perturbations alone keep a path's vertex count and type sequence"}};
+    for (const MethodOption& o : PerturbationOptions::help()) options.push_back(o);
+    options.push_back({"direct", "separate", "separate: the emitter seen directly and direct light at the first hit by path tracing (1 spp per pass), the chains take the rest; chains: the chains take every path"});
+    options.push_back({"steps-per-dispatch", "4", "mutations per chain per dispatch"});
     return {"mlt", "Metropolis light transport: ERPT's lens and caustic perturbations plus independent mutations",
-        true,
-        {{"bootstrap", "4", "bootstrap samples per pixel: b and the chains' start paths"},
-         {"chains", "0", "chains run in parallel (0: pixels / 16, within 1024..65536)"},
-         {"large-step", "0.25", "probability of an independent mutation (a fresh path); > 0 keeps the chains ergodic: the perturbations alone keep a path's vertex count and type sequence"},
-         {"mutation", "erpt", "perturbations: erpt (caustic for L..SDE, lens otherwise), mix, lens or caustic"},
-         {"lens-radius", "3", "lens perturbation disk radius in pixels"},
-         {"caustic-theta-min", "0.0001", "caustic perturbation angle, log-uniform from (radians)"},
-         {"caustic-theta-max", "0.1", "... to (radians)"},
-         {"caustic-probability", "0.5", "--mutation mix: chance of a caustic perturbation"},
-         {"direct", "separate", "separate: the emitter seen directly and direct light at the first hit by path tracing (1 spp per pass), the chains take the rest; chains: the chains take every path"},
-         {"steps-per-dispatch", "4", "mutations per chain per dispatch"}},
-        [](const RenderSettings& s) { return std::make_unique<Mlt>(s); }, ""};
+            true, options, [](const RenderSettings& s) { return std::make_unique<Mlt>(s); }, ""};
 }
 
 }  // namespace pmcr

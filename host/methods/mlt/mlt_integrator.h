@@ -11,6 +11,7 @@
 // chains started by resampling, Veach 1997 sec. 11.3.1), so the image is their average.
 #pragma once
 
+#include "methods/energy_redistribution/redistribution.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
 
@@ -20,11 +21,7 @@ struct MltOptions {
     uint32_t bootstrapSpp = 4;        // bootstrap samples per pixel
     uint32_t chains = 0;              // 0: pixels / 16, within [1024, 65536]
     float largeStep = 0.25f;          // probability of the independent mutation
-    uint32_t mutationMode = 0;        // gpu::MUTATION_* for the perturbations
-    float lensRadius = 3.0f;          // pixels, as ERPT's default
-    float causticThetaMin = 1e-4f;    // radians
-    float causticThetaMax = 0.1f;
-    float causticProbability = 0.5f;
+    PerturbationOptions perturbation;  // ERPT's, with its defaults
     uint32_t stepsPerDispatch = 4;
     // Paths with at most one scattering vertex (the emitter seen directly, direct light at x1)
     // by path tracing at depth 1, one sample per pixel per pass, not by the chains (Veach 1997

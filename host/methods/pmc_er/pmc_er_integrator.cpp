@@ -215,7 +215,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
     // the expected deposits, only how far each member carries them.
     push.birthEnergy = o.lifetime > 0.0 ? float(o.lifetime) : float(mutationsPerPass / double(poolPerPass));
     // The lens perturbation's angles past a D vertex: ERPT's default law (ERPT footnote 4).
-    const ErptOptions erptDefaults;
+    const PerturbationOptions erptDefaults;
     push.lensThetaMin = erptDefaults.causticThetaMin;
     push.lensThetaMax = erptDefaults.causticThetaMax;
     push.flags = (o.depositDirect ? gpu::ERPT_FLAG_DEPOSIT_DIRECT : 0u) |
