@@ -22,13 +22,18 @@ struct PunctualSample {
     uint index;        // which light
 };
 
+// Probability that the alias table over the punctual lights' power picks light `index`.
+float punctualLightPmf(uint index) {
+    return uintBitsToFloat(texelFetch(punctualAliasTexels, int(index)).y);
+}
+
 // The punctual light u picks (u in [0, 1)), seen from `from`.
 PunctualSample samplePunctualLight(vec3 from, float u) {
     PunctualSample ps;
     uint index = aliasTableTriangle(punctualAliasTexels, 0u, sceneInfo.punctualCount, u);
     PunctualLight l = punctualLightAt(index);
     ps.index = index;
-    ps.pmf = uintBitsToFloat(texelFetch(punctualAliasTexels, int(index)).y);
+    ps.pmf = punctualLightPmf(index);
     ps.position = l.position;
     ps.directional = l.type == PUNCTUAL_DIRECTIONAL;
     if (ps.directional) {

@@ -190,12 +190,11 @@ vec3 independentWeight(uint base, uint k, uint maxDepth, out vec3 P) {
                     pConnect = envPdf(wi) * sceneInfo.envSelectPmf;
                     pNext = pdf;
                 } else if (vertexPunctual(nextVertex)) {
-                    float pmf = uintBitsToFloat(texelFetch(punctualAliasTexels, int(nextVertex.triangle)).y);
                     if (!vertexIsDirection(nextVertex)) {
                         vec3 d = next.position - current.position;
                         geometry /= dot(d, d);
                     }
-                    pConnect = pmf * sceneInfo.punctualSelectPmf;
+                    pConnect = punctualLightPmf(nextVertex.triangle) * sceneInfo.punctualSelectPmf;
                     pNext = 0.0;
                 } else
 #endif
