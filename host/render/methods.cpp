@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "methods/erpt/erpt_integrator.h"
 #include "methods/mlt/mlt_integrator.h"
+#include "methods/pm/pm_integrator.h"
 #include "methods/pmc_er/pmc_er_integrator.h"
 #include "methods/pmc_ip/pmc_ip_integrator.h"
 #include "methods/pmc_pt/pmc_pt_integrator.h"
@@ -25,6 +26,8 @@ const std::vector<MethodInfo>& methods() {
         pmcPtMethod(),
         mltMethod(),
         pssmltMethod(),
+        pmMethod(),
+        pmPmcMethod(),
     };
     return list;
 }

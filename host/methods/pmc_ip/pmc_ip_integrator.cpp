@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "methods/pm/pm_integrator.h"
 #include "methods/pt/pixel_order.h"
 #include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
@@ -69,10 +70,11 @@ PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(
         if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
         m_lightSamples = uint32_t(n);
     }
-    if (estimator == Estimator::PmcHi) {
+    if (estimator == Estimator::PmcHi || estimator == Estimator::PhotonGather) {
         m_hi = parsePmcHiOptions(settings, "hi-iterations");
         m_feedback = settings.optionBool("feedback", true);
     }
+    if (estimator == Estimator::PhotonGather) m_photons = PhotonMapOptions::fromSettings(settings);
 }
 
 RenderOutput PmcIp::render(RenderSession& session) {
@@ -81,7 +83,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
     const vk::Kernel& kernel =
         session.kernel(m_estimator == Estimator::Full     ? pathTracingKernel(session.scene(), "pt")
                        : m_estimator == Estimator::Direct ? pathTracingKernel(session.scene(), "direct")
-                                                          : pmcHiKernel(session.scene()));
+                       : m_estimator == Estimator::PmcHi  ? pmcHiKernel(session.scene())
+                                                          : photonGatherKernel(session.scene(), true));
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
     ImagePlaneSampler sampler(film.width(), film.height(), m_options);
@@ -118,7 +121,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
 
     // PMC-HI feedback: the auxiliary image of starting weights (per pixel), each request's final
     // weights, and this iteration's per-pixel sums of them (count last).
-    const bool pmcHi = m_estimator == Estimator::PmcHi;
+    const bool pmcHi = m_estimator == Estimator::PmcHi || m_estimator == Estimator::PhotonGather;
     gpu::PmcHiPush hiPush{};
     vk::Buffer alphaStart, alphaOut;
     std::vector<float> auxiliary, iterationSums, requestAlpha;
@@ -141,7 +144,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_LIST;
     push.flags = gpu::PT_FLAG_WRITE_RESULTS;
-    push.maxDepth = m_estimator == Estimator::Full ? settings.maxDepth : 1;
+    push.maxDepth = m_estimator == Estimator::Full || m_estimator == Estimator::PhotonGather ? settings.maxDepth : 1;
     push.rrDepth = settings.rrDepth;
     push.lightSamples = m_lightSamples;
 
@@ -165,9 +168,14 @@ RenderOutput PmcIp::render(RenderSession& session) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
 
+    // pm-pmc: a photon pass per image-plane iteration (photon_map.h).
+    std::unique_ptr<PhotonMap> photonMap;
+    if (m_estimator == Estimator::PhotonGather) photonMap = std::make_unique<PhotonMap>(session, m_photons);
+
     session.startClock();
     uint64_t iteration = 0;
     for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
+        if (photonMap) photonMap->preparePass(uint32_t(iteration), work);
         const auto adaptStart = std::chrono::steady_clock::now();
         // The last iteration of a --spp budget takes only what is left of it.
         const double spp = iteration == 0 ? double(m_options.initialSpp)
@@ -280,6 +288,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     session.progress().finish();
 
     RenderOutput out;
+    if (photonMap) out.methodStats = photonMap->stats();
     out.image = sampler.image();
     out.cameraSamples = sampler.samplesTaken();
     out.samplesPerPixel = double(out.cameraSamples) / double(pixels);
@@ -303,6 +312,17 @@ RenderOutput PmcIp::render(RenderSession& session) {
     for (float c : out.diagnostics[1].second.rgb) maxCount = std::max(maxCount, uint32_t(c));
     out.methodStats["max_samples_in_a_pixel"] = maxCount;
     return out;
+}
+
+MethodInfo pmPmcMethod() {
+    std::vector<MethodOption> options = pmcIpHiOptions();
+    for (MethodOption& o : PhotonMapOptions::methodOptions()) options.push_back(o);
+    return {"pm-pmc",
+            "photon mapping with its final gather driven by PMC-IP and PMC-HI with feedback (sec. 6) "
+            "[BIASED]: consistent with --progressive on (the default)",
+            false, options,
+            [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::PhotonGather); },
+            ""};
 }
 
 MethodInfo pmcIpMethod() {

@@ -15,8 +15,14 @@
 // (shaders/methods/pmc_hi/pmc_hi.comp) and feeds back (sec. 6.1): after each image-plane iteration,
 // each pixel's mean of the final alpha of its samples' first-hit estimates goes into an auxiliary
 // image, which seeds the PMC-HI weights of the pixel's samples in the next iteration.
+//
+// `pm-pmc` (sec. 6, figures 1 and 10) is `pmc-ip-hi` over photon mapping's gather
+// (methods/pm/pm_integrator.h): each image-plane iteration gets a new photon pass (or the one
+// map, --progressive off) and traces its samples with shaders/methods/pm/pm_gather_hi.comp,
+// PMC-HI direct lighting with the feedback at each sample's gather point.
 #pragma once
 
+#include "methods/pm/photon_map.h"
 #include "methods/pmc_hi/pmc_hi.h"
 #include "methods/pmc_ip/image_plane_sampler.h"
 #include "render/integrator.h"
@@ -26,7 +32,7 @@ namespace pmcr {
 
 class PmcIp : public Integrator {
 public:
-    enum class Estimator { Full, Direct, PmcHi };
+    enum class Estimator { Full, Direct, PmcHi, PhotonGather };
     PmcIp(const RenderSettings& settings, Estimator estimator);
     RenderOutput render(RenderSession& session) override;
 
@@ -39,11 +45,14 @@ private:
     uint32_t m_lightSamples = 1;
     PmcHiOptions m_hi;
     bool m_feedback = true;
+    PhotonMapOptions m_photons;  // PhotonGather
 };
 
-// The registry entries (render/methods.cpp) of `pmc-ip`, `pmc-ip-direct` and `pmc-ip-hi`.
+// The registry entries (render/methods.cpp) of `pmc-ip`, `pmc-ip-direct`, `pmc-ip-hi` and
+// `pm-pmc`.
 MethodInfo pmcIpMethod();
 MethodInfo pmcIpDirectMethod();
 MethodInfo pmcIpHiMethod();
+MethodInfo pmPmcMethod();
 
 }  // namespace pmcr

@@ -4,7 +4,8 @@
 // The including .comp defines `vec3 estimateRadiance(vec2 raster, inout Sampler s, inout uint
 // rays, uint recordIndex)` before including this file, or defines CAMERA_SAMPLE_PATH_STATES
 // when it path-traces: pathBegin / pathBounce / pathEnd are then used directly, for paths in
-// turn.
+// turn. It may define CAMERA_SAMPLE_FINISH() as a statement main runs last, in uniform control
+// flow (counters of its own).
 #ifndef PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 #define PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 
@@ -145,6 +146,9 @@ void main() {
     counterAdd(COUNTER_RAYS, rays);
     counterAdd(COUNTER_NAN_DROPPED, dropped);
     counterAdd(COUNTER_PATHS, paths);
+#ifdef CAMERA_SAMPLE_FINISH
+    CAMERA_SAMPLE_FINISH();
+#endif
 }
 
 #endif

@@ -350,23 +350,14 @@ void pathEnd(PathState p, vec2 raster, uint recordIndex) {
 #endif
 }
 
-// Direct lighting only (MIS of light and BSDF sampling, Veach 1997 sec. 9.2.4): emission seen
-// at x1 plus light reflected at x1 towards the camera, estimated with `lightSamples` light and
-// as many BSDF samples, each weighted by the power heuristic with sample counts. Its expected
-// value equals a path traced with maxDepth = 1. The PMC-HI baseline.
-vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uint rays) {
-    vec3 origin = sceneInfo.cameraPosition;
-    vec3 dir = cameraDirection(raster);
-    Hit hit;
-    rays += 1u;
-    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) return escapedRadiance(dir, true, 0.0);
-    SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
-    vec3 wo = -dir;
-    ShadingPoint sh = makeShadingPoint(s, wo);
-    vec3 L = emittedRadiance(s, wo);
+// Adds to L the light reflected at sh from the lights, by MIS of light and BSDF sampling
+// (Veach 1997 sec. 9.2.4): `lightSamples` light and as many BSDF samples, each weighted by the
+// power heuristic with sample counts; a BSDF sample counts the emitter it hits, or the
+// environment when it escapes. Direct lighting's estimate at x1 (directLighting), and photon
+// mapping's at its gather points (methods/pm/pm_gather_kernel.glsl).
+void addDirectLighting(ShadingPoint sh, inout Sampler smp, uint lightSamples, inout uint rays,
+                       inout vec3 L) {
     float n = float(lightSamples);
-    vec3 cameraTransmittance = segmentTransmittance(s, dir, hit.t);
-
     for (uint i = 0u; i < lightSamples; ++i) {
         // Light sample.
         float uLight = samplerGet1D(smp);
@@ -397,7 +388,8 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
         if (traceClosest(spawnOrigin(sh, wi), wi, FLOAT_MAX, lightHit)) {
             SurfacePoint l = surfaceAt(lightHit.triangle, vec2(lightHit.b1, lightHit.b2));
             Lemit = emittedRadiance(l, -wi) * segmentTransmittance(l, wi, lightHit.t);
-            pdfLight = areaToSolidAngle(emitterAreaPdf(l.triangle), s.position, l.position, l.normal);
+            pdfLight = areaToSolidAngle(emitterAreaPdf(l.triangle), sh.surface.position,
+                                        l.position, l.normal);
         } else {
             if (!hasEnvironment()) continue;
             Lemit = envRadiance(wi);
@@ -407,7 +399,23 @@ vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uin
         float w = bs.delta ? 1.0 : powerHeuristic(n, bs.pdf, n, pdfLight);
         L += bs.f * abs(bs.wi.z) * Lemit * w / (n * bs.pdf);
     }
-    return L * cameraTransmittance;
+}
+
+// Direct lighting only: emission seen at x1 plus light reflected at x1 towards the camera
+// (addDirectLighting). Its expected value equals a path traced with maxDepth = 1. The PMC-HI
+// baseline.
+vec3 directLighting(vec2 raster, inout Sampler smp, uint lightSamples, inout uint rays) {
+    vec3 origin = sceneInfo.cameraPosition;
+    vec3 dir = cameraDirection(raster);
+    Hit hit;
+    rays += 1u;
+    if (!traceClosest(origin, dir, FLOAT_MAX, hit)) return escapedRadiance(dir, true, 0.0);
+    SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    vec3 wo = -dir;
+    ShadingPoint sh = makeShadingPoint(s, wo);
+    vec3 L = emittedRadiance(s, wo);
+    addDirectLighting(sh, smp, lightSamples, rays, L);
+    return L * segmentTransmittance(s, dir, hit.t);
 }
 
 #endif

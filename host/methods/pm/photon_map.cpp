@@ -1,0 +1,246 @@
+#include "methods/pm/photon_map.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "methods/pt/pt_integrator.h"
+#include "vk/command_batch.h"
+#include "vk/context.h"
+
+namespace pmcr {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+uint32_t kernelByName(const std::string& name) {
+    if (name == "box") return gpu::PM_KERNEL_BOX;
+    if (name == "cone") return gpu::PM_KERNEL_CONE;
+    if (name == "epanechnikov") return gpu::PM_KERNEL_EPANECHNIKOV;
+    throw Error("--kernel " + name + ": expected box, cone or epanechnikov");
+}
+
+// Every triangle's area: the surface the automatic radius spreads the photons over.
+double surfaceArea(const Scene& scene) {
+    double area = 0.0;
+    for (const gpu::Triangle& t : scene.triangles) {
+        const glm::dvec3 a(scene.vertices[t.i0].position), b(scene.vertices[t.i1].position),
+            c(scene.vertices[t.i2].position);
+        area += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+    return area;
+}
+
+uint32_t nextPowerOfTwo(uint64_t n) {
+    uint64_t p = 1;
+    while (p < n) p <<= 1;
+    return uint32_t(std::min<uint64_t>(p, uint64_t(1) << 31));
+}
+
+}  // namespace
+
+PhotonMapOptions PhotonMapOptions::fromSettings(const RenderSettings& settings) {
+    PhotonMapOptions o;
+    const int photons = settings.optionInt("photons", int(o.photonsPerPass));
+    if (photons < 1 || photons > 16 * 1000 * 1000) throw Error("--photons: expected 1..16000000 photon paths per pass");
+    o.photonsPerPass = uint32_t(photons);
+    o.radius = settings.optionDouble("radius", o.radius);
+    if (!(o.radius >= 0.0) || !std::isfinite(o.radius)) throw Error("--radius: expected a radius >= 0 in scene units (0: automatic)");
+    o.photonsPerDisc = settings.optionDouble("photons-per-disc", o.photonsPerDisc);
+    if (!(o.photonsPerDisc >= 1.0 && o.photonsPerDisc <= 1e6)) throw Error("--photons-per-disc: expected 1..1000000");
+    o.progressive = settings.optionBool("progressive", o.progressive);
+    o.alpha = settings.optionDouble("alpha", o.alpha);
+    if (!(o.alpha > 0.0 && o.alpha < 1.0)) throw Error("--alpha: expected a number in (0, 1)");
+    const int gather = settings.optionInt("gather-rays", int(o.gatherRays));
+    if (gather < 0 || gather > 32) throw Error("--gather-rays: expected 0..32");
+    o.gatherRays = uint32_t(gather);
+    o.kernel = kernelByName(settings.optionString("kernel", "epanechnikov"));
+    const int lookup = settings.optionInt("max-lookup", int(o.maxLookup));
+    if (lookup < 16 || lookup > 1024) throw Error("--max-lookup: expected 16..1024 photons");
+    o.maxLookup = uint32_t(lookup);
+    return o;
+}
+
+std::vector<MethodOption> PhotonMapOptions::methodOptions() {
+    return {
+        {"photons", "100000", "photon paths shot per pass"},
+        {"radius", "0", "initial gather radius in scene units (0: from --photons-per-disc)"},
+        {"photons-per-disc", "32", "automatic radius: the first pass's photons per disc, spread evenly over the scene's surface"},
+        {"progressive", "on", "on: new photons and a smaller radius every pass (consistent); off: one photon map at a fixed radius"},
+        {"alpha", "0.7", "progressive radius reduction: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)"},
+        {"gather-rays", "4", "final gather rays per gather point (0: read the photon map at the gather point)"},
+        {"kernel", "epanechnikov", "density estimation kernel: box, cone or epanechnikov"},
+        {"max-lookup", "1024", "photons one density lookup reads at most (counted when cut)"},
+    };
+}
+
+double photonPassRadius(double r0, uint32_t pass, bool progressive, double alpha) {
+    if (!progressive) return r0;
+    double r2 = r0 * r0;
+    for (uint32_t i = 1; i <= pass; ++i) r2 *= (double(i) + alpha) / (double(i) + 1.0);
+    return std::sqrt(r2);
+}
+
+uint32_t photonCellBucket(int32_t x, int32_t y, int32_t z, uint32_t hashSize) {
+    return ((uint32_t(x) * 73856093u) ^ (uint32_t(y) * 19349663u) ^ (uint32_t(z) * 83492791u)) &
+           (hashSize - 1u);
+}
+
+void buildPhotonGrid(const std::vector<gpu::Photon>& photons, float cellSize, uint32_t hashSize,
+                     std::vector<gpu::Photon>& sorted, std::vector<glm::uvec2>& cells) {
+    cells.assign(hashSize, glm::uvec2(0u));
+    std::vector<uint32_t> bucket(photons.size());
+    for (size_t i = 0; i < photons.size(); ++i) {
+        // The same float arithmetic as the lookup's floor((x +- r) / cellSize).
+        const glm::vec3 c = glm::floor(photons[i].position / cellSize);
+        bucket[i] = photonCellBucket(int32_t(c.x), int32_t(c.y), int32_t(c.z), hashSize);
+        cells[bucket[i]].y += 1;
+    }
+    uint32_t first = 0;
+    for (glm::uvec2& cell : cells) {
+        cell.x = first;
+        first += cell.y;
+    }
+    sorted.resize(photons.size());
+    std::vector<uint32_t> next(hashSize);
+    for (uint32_t b = 0; b < hashSize; ++b) next[b] = cells[b].x;
+    for (size_t i = 0; i < photons.size(); ++i) sorted[next[bucket[i]]++] = photons[i];
+}
+
+PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options)
+    : m_session(session), m_options(options) {
+    const RenderSettings& settings = session.settings();
+    m_slotsPerPath = std::clamp<uint32_t>(settings.maxDepth, 1, gpu::PM_MAX_SLOTS_PER_PATH);
+    const uint64_t slotBytes = uint64_t(options.photonsPerPass) * m_slotsPerPath * sizeof(gpu::Photon);
+    const uint64_t cellBytes = uint64_t(nextPowerOfTwo(2 * uint64_t(options.photonsPerPass) * m_slotsPerPath)) *
+                               sizeof(glm::uvec2);
+    const uint64_t limit = session.context().limits().maxStorageBufferRange;
+    if (slotBytes > limit || cellBytes > limit)
+        throw Error("--photons " + std::to_string(options.photonsPerPass) + ": a pass needs " +
+                    std::to_string((std::max(slotBytes, cellBytes) + (1u << 20) - 1) >> 20) +
+                    " MiB in one buffer (32 bytes per photon slot, " + std::to_string(m_slotsPerPath) +
+                    " slots per path), above the device's storage buffer range of " +
+                    std::to_string(limit >> 20) + " MiB; use fewer --photons or a lower --max-depth");
+    m_slots = vk::Buffer(session.context(), slotBytes,
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         "photon slots", vk::MemoryUsage::Readback);
+    m_infoBuffer = vk::Buffer(session.context(), sizeof(gpu::PhotonMapInfo), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                              "photon map info");
+    m_surfaceArea = surfaceArea(session.scene().scene());
+    m_info.kernel = options.kernel;
+    m_info.gatherRays = options.gatherRays;
+    m_info.maxLookup = options.maxLookup;
+}
+
+void PhotonMap::shoot(uint32_t pass) {
+    const auto start = std::chrono::steady_clock::now();
+    const GpuScene& scene = m_session.scene();
+    const vk::Kernel& kernel = m_session.kernel(lightsKernelVariant(scene, "methods/pm/photon_shoot"));
+    const RenderSettings& settings = m_session.settings();
+    gpu::PhotonShootPush push{};
+    push.seed = settings.seed;
+    push.pass = pass;
+    push.slotsPerPath = m_slotsPerPath;
+    push.maxDepth = settings.maxDepth;
+    push.rrDepth = settings.rrDepth;
+    push.pathScale = 1.0f / float(m_options.photonsPerPass);
+    // Dispatches of at most 64k paths, one path per invocation.
+    constexpr uint32_t kPathsPerDispatch = 65536;
+    vk::CommandBatch batch(m_session.layout(), &m_session.timer());
+    batch.fill(m_session.film().counters(), 0);
+    batch.bind(scene.descriptorSet());
+    batch.bind(*m_work);
+    for (uint32_t offset = 0; offset < m_options.photonsPerPass; offset += kPathsPerDispatch) {
+        push.pathOffset = offset;
+        push.pathCount = std::min(kPathsPerDispatch, m_options.photonsPerPass - offset);
+        batch.dispatch(kernel, push, push.pathCount);
+    }
+    batch.submitAndWait();
+    m_session.film().addCounters(m_session.counters());
+    m_shootSeconds += secondsSince(start);
+    m_passesShot += 1;
+}
+
+void PhotonMap::build(uint32_t pass) {
+    const auto start = std::chrono::steady_clock::now();
+    // The stored photons in path order.
+    const size_t slots = size_t(m_options.photonsPerPass) * m_slotsPerPath;
+    const auto* slot = static_cast<const gpu::Photon*>(m_slots.mapped());
+    std::vector<gpu::Photon> downloaded;
+    if (!slot) {
+        downloaded = m_slots.download<gpu::Photon>(slots);
+        slot = downloaded.data();
+    }
+    m_photons.clear();
+    for (size_t path = 0; path < m_options.photonsPerPass; ++path) {
+        const gpu::Photon* p = slot + path * m_slotsPerPath;
+        for (uint32_t k = 0; k < m_slotsPerPath && (p[k].flags & gpu::PHOTON_STORED); ++k) m_photons.push_back(p[k]);
+    }
+    m_photonsStored += m_photons.size();
+    if (m_r0 == 0.0) {
+        // Automatic: photonsPerDisc photons in a disc were the first pass's spread evenly.
+        m_r0 = m_options.radius > 0.0
+                   ? m_options.radius
+                   : std::sqrt(m_options.photonsPerDisc * m_surfaceArea /
+                               (3.14159265358979 * std::max<double>(1.0, double(m_photons.size()))));
+        if (!(m_r0 > 0.0) || !std::isfinite(m_r0)) m_r0 = 1e-3 * m_session.scene().info().sceneRadius;
+    }
+    const float radius = float(photonPassRadius(m_r0, pass, m_options.progressive, m_options.alpha));
+    const uint32_t hashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(m_photons.size())));
+    buildPhotonGrid(m_photons, 2.0f * radius, hashSize, m_sorted, m_cellData);
+    if (!m_cells.valid() || m_cells.size() < hashSize * sizeof(glm::uvec2)) {
+        m_cells = vk::Buffer(m_session.context(), uint64_t(hashSize) * sizeof(glm::uvec2),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photon grid");
+        m_work->bind(gpu::PM_BINDING_CELLS, m_cells);
+    }
+    m_cells.upload(m_cellData);
+    if (!m_sorted.empty()) m_slots.upload(m_sorted);
+    m_info.radius = radius;
+    m_info.cellSize = 2.0f * radius;
+    m_info.hashMask = hashSize - 1;
+    m_info.photonCount = uint32_t(m_sorted.size());
+    m_infoBuffer.upload(&m_info, sizeof(m_info));
+    m_buildSeconds += secondsSince(start);
+}
+
+void PhotonMap::preparePass(uint32_t pass, vk::DescriptorSet& work) {
+    if (m_work != &work) {
+        m_work = &work;
+        work.bind(gpu::PM_BINDING_SLOTS, m_slots);
+        work.bind(gpu::PM_BINDING_PHOTONS, m_slots);
+        work.bind(gpu::PM_BINDING_INFO, m_infoBuffer);
+        if (m_cells.valid()) work.bind(gpu::PM_BINDING_CELLS, m_cells);
+    }
+    if (m_passesShot > 0 && !m_options.progressive) return;
+    shoot(pass);
+    build(pass);
+}
+
+nlohmann::json PhotonMap::stats() {
+    const Counters& c = m_session.counters();
+    nlohmann::json j;
+    j["photon_passes"] = m_passesShot;
+    j["photon_paths_per_pass"] = m_options.photonsPerPass;
+    j["photons_stored"] = m_photonsStored;
+    j["photons_per_pass"] = m_passesShot ? double(m_photonsStored) / m_passesShot : 0.0;
+    j["radius_initial"] = m_r0;
+    j["radius_final"] = m_info.radius;
+    j["progressive"] = m_options.progressive;
+    j["gather_rays"] = m_options.gatherRays;
+    j["photon_shoot_seconds"] = m_shootSeconds;
+    j["photon_build_seconds"] = m_buildSeconds;
+    j["photon_paths_out_of_slots"] = c.values[gpu::COUNTER_PM_SLOTS_FULL];
+    j["lookups"] = c.values[gpu::COUNTER_PM_LOOKUPS];
+    j["lookups_cut"] = c.values[gpu::COUNTER_PM_LOOKUP_CUT];
+    const double lookups = std::max<double>(1.0, double(c.values[gpu::COUNTER_PM_LOOKUPS]));
+    j["photons_visited_per_lookup"] = double(c.values[gpu::COUNTER_PM_PHOTONS_VISITED]) / lookups;
+    j["photons_used_per_lookup"] = double(c.values[gpu::COUNTER_PM_PHOTONS_USED]) / lookups;
+    return j;
+}
+
+}  // namespace pmcr
