@@ -37,7 +37,7 @@ PMCR_CONST uint PM_KERNEL_EPANECHNIKOV = 2;  // 2 / (pi r^2) (1 - d^2 / r^2)   (
 
 // Counters the photon kernels add to (render_types.h COUNTER_*; 3..15 are free in these kernels).
 PMCR_CONST uint COUNTER_PM_SLOTS_FULL = 4;       // photon paths that ran out of slots
-PMCR_CONST uint COUNTER_PM_LOOKUP_CUT = 5;       // density lookups cut at maxLookup photons
+PMCR_CONST uint COUNTER_PM_LOOKUP_CUT = 5;       // density lookups that read a bucket strided (maxLookup)
 PMCR_CONST uint COUNTER_PM_LOOKUPS = 6;          // density lookups
 PMCR_CONST uint COUNTER_PM_PHOTONS_VISITED = 7;  // photons read by lookups
 PMCR_CONST uint COUNTER_PM_PHOTONS_USED = 8;     // of which within the radius
@@ -49,7 +49,7 @@ struct PhotonMapInfo {
     uint hashMask;     // hashSize - 1 (a power of two)
     uint kernel;       // PM_KERNEL_*
     uint gatherRays;   // final gather rays per gather point (0: read the map at the gather point)
-    uint maxLookup;    // photons one lookup reads at most (lavapipe's loop budget)
+    uint maxLookup;    // photons one lookup reads at most, maxLookup / 8 per bucket (lavapipe's loop budget)
     uint photonCount;  // photons in the map
     uint pad;
 };

@@ -1,5 +1,6 @@
 // Every scene in scenes/ loads, has a light, and renders a few samples of path tracing, and a
-// few mutations per pixel of the Metropolis methods (mlt, pssmlt: their own path construction),
+// few mutations per pixel of the Metropolis methods (mlt, pssmlt: their own path construction)
+// and a few photon passes (pm, pm-pmc: photons shot from every kind of light),
 // without a single NaN/Inf sample or dropped deposit and without an all-black image. Third-party samples without a light of
 // their own (glTF sample models) are lit by the shipped sky, as scenes/README.md says to.
 #include <gtest/gtest.h>
@@ -46,7 +47,12 @@ TEST_P(SceneRenders, LoadsHasALightAndRendersWithoutNaNs) {
     s.height = 24;
     auto r = renderForTest(scene, s);
     EXPECT_EQ(r.stats["nan_samples_dropped"].get<uint64_t>(), 0u);
-    if (method != "pt") EXPECT_EQ(r.stats["method_stats"]["deposits_dropped"].get<uint64_t>(), 0u);
+    if (method == "mlt" || method == "pssmlt")
+        EXPECT_EQ(r.stats["method_stats"]["deposits_dropped"].get<uint64_t>(), 0u);
+    if (method == "pm" || method == "pm-pmc") {
+        EXPECT_EQ(r.stats["method_stats"]["photon_paths_out_of_slots"].get<uint64_t>(), 0u);
+        EXPECT_GT(r.stats["method_stats"]["photons_stored"].get<uint64_t>(), 0u);
+    }
     double sum = 0.0;
     for (float v : r.output.image.rgb) {
         ASSERT_TRUE(std::isfinite(v));
@@ -57,7 +63,7 @@ TEST_P(SceneRenders, LoadsHasALightAndRendersWithoutNaNs) {
 
 INSTANTIATE_TEST_SUITE_P(AllScenes, SceneRenders,
                          ::testing::Combine(::testing::ValuesIn(sceneFiles()),
-                                            ::testing::Values("pt", "mlt", "pssmlt")),
+                                            ::testing::Values("pt", "mlt", "pssmlt", "pm", "pm-pmc")),
                          [](const auto& info) {
                              std::string name = std::filesystem::path(std::get<0>(info.param)).stem().string() +
                                                 "_" + std::get<1>(info.param);

@@ -47,8 +47,12 @@ uint32_t nextPowerOfTwo(uint64_t n) {
 PhotonMapOptions PhotonMapOptions::fromSettings(const RenderSettings& settings) {
     PhotonMapOptions o;
     const int photons = settings.optionInt("photons", int(o.photonsPerPass));
-    if (photons < 1 || photons > 16 * 1000 * 1000) throw Error("--photons: expected 1..16000000 photon paths per pass");
+    if (photons < 0 || photons > 16 * 1000 * 1000)
+        throw Error("--photons: expected 0..16000000 photon paths per pass (0: one per camera sample)");
     o.photonsPerPass = uint32_t(photons);
+    const int photonSeed = settings.optionInt("photon-seed", -1);
+    if (photonSeed < -1) throw Error("--photon-seed: expected a seed >= 0 (-1: the render seed)");
+    o.photonSeed = photonSeed;
     o.radius = settings.optionDouble("radius", o.radius);
     if (!(o.radius >= 0.0) || !std::isfinite(o.radius)) throw Error("--radius: expected a radius >= 0 in scene units (0: automatic)");
     o.photonsPerDisc = settings.optionDouble("photons-per-disc", o.photonsPerDisc);
@@ -68,14 +72,15 @@ PhotonMapOptions PhotonMapOptions::fromSettings(const RenderSettings& settings) 
 
 std::vector<MethodOption> PhotonMapOptions::methodOptions() {
     return {
-        {"photons", "100000", "photon paths shot per pass"},
+        {"photons", "0", "photon paths shot per pass (0: as many as the pass's camera samples)"},
+        {"photon-seed", "-1", "seed of the photon paths (-1: the render seed); fixed, renders of other seeds share the photon maps"},
         {"radius", "0", "initial gather radius in scene units (0: from --photons-per-disc)"},
         {"photons-per-disc", "32", "automatic radius: the first pass's photons per disc, spread evenly over the scene's surface"},
         {"progressive", "on", "on: new photons and a smaller radius every pass (consistent); off: one photon map at a fixed radius"},
         {"alpha", "0.7", "progressive radius reduction: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)"},
         {"gather-rays", "4", "final gather rays per gather point (0: read the photon map at the gather point)"},
         {"kernel", "epanechnikov", "density estimation kernel: box, cone or epanechnikov"},
-        {"max-lookup", "1024", "photons one density lookup reads at most (counted when cut)"},
+        {"max-lookup", "1024", "photons one density lookup reads at most; fuller cells are read strided (unbiased, noisier)"},
     };
 }
 
@@ -112,16 +117,19 @@ void buildPhotonGrid(const std::vector<gpu::Photon>& photons, float cellSize, ui
     for (size_t i = 0; i < photons.size(); ++i) sorted[next[bucket[i]]++] = photons[i];
 }
 
-PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options)
+PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options, double sppPerPass)
     : m_session(session), m_options(options) {
     const RenderSettings& settings = session.settings();
+    if (m_options.photonsPerPass == 0)
+        m_options.photonsPerPass = uint32_t(std::clamp(
+            double(session.film().pixelCount()) * sppPerPass, 1024.0, 16e6));
     m_slotsPerPath = std::clamp<uint32_t>(settings.maxDepth, 1, gpu::PM_MAX_SLOTS_PER_PATH);
-    const uint64_t slotBytes = uint64_t(options.photonsPerPass) * m_slotsPerPath * sizeof(gpu::Photon);
-    const uint64_t cellBytes = uint64_t(nextPowerOfTwo(2 * uint64_t(options.photonsPerPass) * m_slotsPerPath)) *
+    const uint64_t slotBytes = uint64_t(m_options.photonsPerPass) * m_slotsPerPath * sizeof(gpu::Photon);
+    const uint64_t cellBytes = uint64_t(nextPowerOfTwo(2 * uint64_t(m_options.photonsPerPass) * m_slotsPerPath)) *
                                sizeof(glm::uvec2);
     const uint64_t limit = session.context().limits().maxStorageBufferRange;
     if (slotBytes > limit || cellBytes > limit)
-        throw Error("--photons " + std::to_string(options.photonsPerPass) + ": a pass needs " +
+        throw Error("--photons " + std::to_string(m_options.photonsPerPass) + ": a pass needs " +
                     std::to_string((std::max(slotBytes, cellBytes) + (1u << 20) - 1) >> 20) +
                     " MiB in one buffer (32 bytes per photon slot, " + std::to_string(m_slotsPerPath) +
                     " slots per path), above the device's storage buffer range of " +
@@ -143,7 +151,7 @@ void PhotonMap::shoot(uint32_t pass) {
     const vk::Kernel& kernel = m_session.kernel(lightsKernelVariant(scene, "methods/pm/photon_shoot"));
     const RenderSettings& settings = m_session.settings();
     gpu::PhotonShootPush push{};
-    push.seed = settings.seed;
+    push.seed = m_options.photonSeed >= 0 ? uint32_t(m_options.photonSeed) : settings.seed;
     push.pass = pass;
     push.slotsPerPath = m_slotsPerPath;
     push.maxDepth = settings.maxDepth;
@@ -236,7 +244,7 @@ nlohmann::json PhotonMap::stats() {
     j["photon_build_seconds"] = m_buildSeconds;
     j["photon_paths_out_of_slots"] = c.values[gpu::COUNTER_PM_SLOTS_FULL];
     j["lookups"] = c.values[gpu::COUNTER_PM_LOOKUPS];
-    j["lookups_cut"] = c.values[gpu::COUNTER_PM_LOOKUP_CUT];
+    j["lookups_strided"] = c.values[gpu::COUNTER_PM_LOOKUP_CUT];
     const double lookups = std::max<double>(1.0, double(c.values[gpu::COUNTER_PM_LOOKUPS]));
     j["photons_visited_per_lookup"] = double(c.values[gpu::COUNTER_PM_PHOTONS_VISITED]) / lookups;
     j["photons_used_per_lookup"] = double(c.values[gpu::COUNTER_PM_PHOTONS_USED]) / lookups;

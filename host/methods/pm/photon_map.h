@@ -32,7 +32,8 @@
 namespace pmcr {
 
 struct PhotonMapOptions {
-    uint32_t photonsPerPass = 100000;  // photon paths shot per pass
+    uint32_t photonsPerPass = 0;       // photon paths shot per pass; 0: pixels x camera samples per pass
+    int64_t photonSeed = -1;           // seed of the photon paths; -1: the render seed
     double radius = 0.0;               // initial radius in scene units; 0: from photonsPerDisc
     double photonsPerDisc = 32.0;      // the automatic radius's target
     bool progressive = true;           // new photons and a smaller radius every pass
@@ -61,8 +62,10 @@ void buildPhotonGrid(const std::vector<gpu::Photon>& photons, float cellSize, ui
 
 class PhotonMap {
 public:
-    // Checks the memory a pass needs against the device's limits (pmcr::Error when over).
-    PhotonMap(RenderSession& session, const PhotonMapOptions& options);
+    // `sppPerPass`: the camera samples per pixel each pass serves, for the default photon count
+    // (as many photon paths as camera samples). Checks the memory a pass needs against the
+    // device's limits (pmcr::Error when over).
+    PhotonMap(RenderSession& session, const PhotonMapOptions& options, double sppPerPass);
 
     // Pass `pass`'s map: shoots new photons and builds their grid at this pass's radius when the
     // map is progressive or not built yet, then points `work`'s photon bindings at it.
@@ -70,6 +73,9 @@ public:
 
     double radius() const { return m_info.radius; }
     uint32_t photonCount() const { return m_info.photonCount; }
+    uint32_t pathsPerPass() const { return m_options.photonsPerPass; }
+    // The last pass's photons in path order (as shot, before the grid sort).
+    const std::vector<gpu::Photon>& photons() const { return m_photons; }
     // Passes shot, photons stored, host and device seconds, lookup statistics.
     nlohmann::json stats();
 

@@ -30,7 +30,7 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pm work");
     bindTileWork(work, film, session);
-    PhotonMap map(session, m_photons);
+    PhotonMap map(session, m_photons, double(m_sppPerPass));
 
     const uint32_t pixels = film.pixelCount();
     const uint32_t spp = settings.spp > 0 ? settings.spp

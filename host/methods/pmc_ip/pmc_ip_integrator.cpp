@@ -170,7 +170,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
 
     // pm-pmc: a photon pass per image-plane iteration (photon_map.h).
     std::unique_ptr<PhotonMap> photonMap;
-    if (m_estimator == Estimator::PhotonGather) photonMap = std::make_unique<PhotonMap>(session, m_photons);
+    if (m_estimator == Estimator::PhotonGather) photonMap = std::make_unique<PhotonMap>(session, m_photons, m_options.samplesPerIteration);
 
     session.startClock();
     uint64_t iteration = 0;

@@ -6,7 +6,11 @@
 // Teschner et al. 2003's hash), so the sphere of radius r around x meets at most 2 x 2 x 2 cells;
 // their buckets are read once each (cells that share a bucket are read once) and the distance
 // test drops photons of other cells. A lookup reads at most maxLookup photons (lavapipe's loop
-// budget, tests/gpu/test_loop_limits.cpp): a lookup cut short is counted (COUNTER_PM_LOOKUP_CUT).
+// budget, tests/gpu/test_loop_limits.cpp), maxLookup / 8 per bucket: a fuller bucket is read
+// with a stride k from a random offset in [0, k), each photon read standing for k. A bucket
+// holds its photons in path order, i.e. in random order, so the strided sum is an unbiased
+// estimate of the whole bucket's (every photon is read for exactly one of the k offsets): more
+// noise, no bias. Such lookups are counted (COUNTER_PM_LOOKUP_CUT).
 #ifndef PMCR_PHOTON_MAP_GLSL
 #define PMCR_PHOTON_MAP_GLSL
 
@@ -47,45 +51,80 @@ struct LookupStats {
 
 LookupStats lookupStatsCreate() { return LookupStats(0u, 0u, 0u, 0u); }
 
+// The bucket of corner c (0..7) of the 2 x 2 x 2 cells from `lo`.
+uint photonCornerBucket(ivec3 lo, uint c) {
+    return photonCellBucket(lo + ivec3(c & 1u, (c >> 1) & 1u, (c >> 2) & 1u));
+}
+
 // Radiance reflected at sh towards sh's wo by the photons within the radius whose flags hold
-// every bit of `require` and none of `exclude`.
-vec3 photonRadiance(ShadingPoint sh, uint require, uint exclude, inout LookupStats stats) {
+// every bit of `require` and none of `exclude`; u in [0, 1) picks the offset of strided buckets. A Lambertian surface sums the photons' flux on
+// its front side and multiplies by its f once; other BSDFs are evaluated per photon. (Two
+// loops, not one with a branch inside: lavapipe runs both sides of a branch under lane masks,
+// but a loop whose lanes are all masked off ends at once.)
+vec3 photonRadiance(ShadingPoint sh, uint require, uint exclude, float u, inout LookupStats stats) {
     float r = photonMap.radius;
     float r2 = r * r;
     vec3 x = sh.surface.position;
     ivec3 lo = ivec3(floor((x - r) / photonMap.cellSize));
     ivec3 hi = ivec3(floor((x + r) / photonMap.cellSize));
+    bool lambertian = sh.bsdf.wBase >= 1.0 && !sh.bsdf.coated;
     vec3 sum = vec3(0.0);
-    uint budget = photonMap.maxLookup;
-    uint seen[8];
-    uint seenCount = 0u;
+    uint perBucket = max(photonMap.maxLookup / 8u, 1u);
     stats.lookups += 1u;
+    bool strided = false;
     for (uint c = 0u; c < 8u; ++c) {
         ivec3 cell = lo + ivec3(c & 1u, (c >> 1) & 1u, (c >> 2) & 1u);
         if (any(greaterThan(cell, hi))) continue;
+        // Cells that share a bucket: read it once, at the first of them.
         uint bucket = photonCellBucket(cell);
         bool again = false;
-        for (uint k = 0u; k < seenCount; ++k) again = again || seen[k] == bucket;
+        for (uint k = 0u; k < c; ++k) again = again || photonCornerBucket(lo, k) == bucket;
         if (again) continue;
-        seen[seenCount] = bucket;
-        seenCount += 1u;
         uvec2 range = cells[bucket];
-        uint count = min(range.y, budget);
-        if (count < range.y) stats.cut += 1u;
-        budget -= count;
-        stats.visited += count;
-        for (uint k = 0u; k < count; ++k) {
-            Photon p = photons[range.x + k];
-            vec3 d = p.position - x;
-            float d2 = dot(d, d);
-            if (!(d2 < r2) || (p.flags & require) != require || (p.flags & exclude) != 0u) continue;
-            stats.used += 1u;
-            vec3 wi = octDecode(unpackSnorm2x16(p.direction));
-            float pdf, absCos;
-            vec3 f = shadingEval(sh, wi, pdf, absCos);
-            sum += photonKernel(d2, r2) * f * p.power;
+        uint stride = (range.y + perBucket - 1u) / perBucket;
+        uint offset = 0u;
+        float weight = 1.0;
+        if (stride > 1u) {
+            strided = true;
+            offset = min(uint(u * float(stride)), stride - 1u);
+            weight = float(stride);
         }
+        uint count = range.y > offset ? (range.y - offset + stride - 1u) / stride : 0u;
+        uint first = range.x + offset;
+        stats.visited += count;
+        vec3 bucketSum = vec3(0.0);
+        if (lambertian) {
+            for (uint k = 0u; k < count; ++k) {
+                uint i = first + k * stride;
+                vec3 d = photons[i].position - x;
+                float d2 = dot(d, d);
+                uint flags = photons[i].flags;
+                if (!(d2 < r2) || (flags & require) != require || (flags & exclude) != 0u) continue;
+                vec3 wi = octDecode(unpackSnorm2x16(photons[i].direction));
+                // shadingEval's side checks: wi above both the geometric and the shading normal.
+                if (!(dot(wi, sh.ng) > 0.0) || !(dot(wi, sh.frame.n) > 0.0)) continue;
+                stats.used += 1u;
+                bucketSum += photonKernel(d2, r2) * photons[i].power;
+            }
+        } else {
+            for (uint k = 0u; k < count; ++k) {
+                uint i = first + k * stride;
+                vec3 d = photons[i].position - x;
+                float d2 = dot(d, d);
+                uint flags = photons[i].flags;
+                if (!(d2 < r2) || (flags & require) != require || (flags & exclude) != 0u) continue;
+                stats.used += 1u;
+                vec3 wi = octDecode(unpackSnorm2x16(photons[i].direction));
+                float pdf, absCos;
+                vec3 f = shadingEval(sh, wi, pdf, absCos);
+                bucketSum += photonKernel(d2, r2) * f * photons[i].power;
+            }
+        }
+        sum += weight * bucketSum;
     }
+    if (strided) stats.cut += 1u;
+    // Lambertian: f = baseColor / pi (bsdf.glsl bsdfEval's base lobe, weight 1, uncoated).
+    if (lambertian) sum *= sh.woLocal.z > 0.0 ? sh.bsdf.baseColor * INV_PI : vec3(0.0);
     return sum / (PI * r2);
 }
 
