@@ -246,6 +246,46 @@ Mesh cylinderSide(std::string name, const glm::dvec3& base, double radius, doubl
     return mesh;
 }
 
+Mesh coneSide(std::string name, const glm::dvec3& base, double bottomRadius, double topRadius,
+              double height, int segments) {
+    Mesh mesh;
+    mesh.name = std::move(name);
+    // The slant's outward normal at azimuth phi: (height cos phi, r0 - r1, height sin phi).
+    const double slant = std::hypot(height, bottomRadius - topRadius);
+    for (auto [y, radius] : {std::pair{0.0, bottomRadius}, std::pair{height, topRadius}}) {
+        for (int j = 0; j < segments; ++j) {
+            const double phi = 2.0 * std::numbers::pi * j / segments;
+            const glm::dvec3 out(std::cos(phi), 0.0, std::sin(phi));
+            mesh.positions.push_back(glm::vec3(base + radius * out + glm::dvec3(0.0, y, 0.0)));
+            mesh.normals.push_back(
+                glm::vec3((height * out + glm::dvec3(0.0, bottomRadius - topRadius, 0.0)) / slant));
+        }
+    }
+    wrappedGrid(mesh, 0, 1, uint32_t(segments), false);
+    orientByNormals(mesh);
+    return mesh;
+}
+
+Mesh box(std::string name, const glm::dvec3& lo, const glm::dvec3& hi) {
+    // Two faces per axis, at lo and at hi; (u, v) walks around each face along the other two
+    // axes. The winding is fixed afterwards.
+    std::vector<glm::vec3> corners;
+    for (int axis = 0; axis < 3; ++axis) {
+        for (const glm::dvec3& side : {lo, hi}) {
+            for (auto [u, v] :
+                 {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}, std::pair{0, 1}}) {
+                glm::dvec3 p = side;
+                p[(axis + 1) % 3] = u ? hi[(axis + 1) % 3] : lo[(axis + 1) % 3];
+                p[(axis + 2) % 3] = v ? hi[(axis + 2) % 3] : lo[(axis + 2) % 3];
+                corners.push_back(glm::vec3(p));
+            }
+        }
+    }
+    Mesh mesh = quads(std::move(name), corners);
+    orientTowards(mesh, 0.5 * (lo + hi), true);
+    return mesh;
+}
+
 Mesh disk(std::string name, const glm::dvec3& center, double radius, int segments, bool up) {
     Mesh mesh;
     mesh.name = std::move(name);

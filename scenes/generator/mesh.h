@@ -61,6 +61,14 @@ Mesh domeShell(std::string name, const glm::dvec3& center, double outerRadius, d
 Mesh cylinderSide(std::string name, const glm::dvec3& base, double radius, double height,
                   int segments);
 
+// The side of a vertical truncated cone, open at both ends: radius `bottomRadius` at `base`,
+// `topRadius` at `height` above it. Smooth (normals perpendicular to the slant), front faces out.
+Mesh coneSide(std::string name, const glm::dvec3& base, double bottomRadius, double topRadius,
+              double height, int segments);
+
+// An axis-aligned box between corners `lo` and `hi`: 12 flat triangles, closed, front faces out.
+Mesh box(std::string name, const glm::dvec3& lo, const glm::dvec3& hi);
+
 // A flat regular polygon of `segments` sides in the plane y = center.y, front face up or down.
 Mesh disk(std::string name, const glm::dvec3& center, double radius, int segments, bool up);
 

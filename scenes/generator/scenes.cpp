@@ -226,6 +226,9 @@ const std::vector<SceneEntry>& sceneCatalog() {
         {"sky-spheres",
          "four spheres (diffuse, plastic, gold, glass) on the ground, for --env sky-afternoon.exr",
          skySpheres, ""},
+        {"lamp-room",
+         "PMC-IP/HI fig. 1, 10: furnished room lit mostly indirectly by a shaded floor lamp",
+         lampRoom, ""},
     };
     return catalog;
 }

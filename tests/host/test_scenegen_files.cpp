@@ -144,7 +144,7 @@ const std::vector<std::string> kScenes = {
     "cornell-classic",     "furnace",       "furnace-sphere",
     "checkers-two-lights", "plant-shadows", "dragon-direct",
     "dragon-caustic",      "room",          "veach-mis",
-    "glass-caustic-torus", "sky-spheres"};
+    "glass-caustic-torus", "sky-spheres",   "lamp-room"};
 
 class SceneFile : public ::testing::TestWithParam<std::string> {};
 
@@ -441,7 +441,8 @@ TEST(SceneFiles, PaperSizesAreThePapers) {
         {"dragon-caustic", {900, 900}},
         {"room", {720, 405}},
         {"veach-mis", {1280, 720}},
-        {"glass-caustic-torus", {640, 480}}};
+        {"glass-caustic-torus", {640, 480}},
+        {"lamp-room", {720, 405}}};
     for (const auto& name : kScenes) {
         SCOPED_TRACE(name);
         SceneData g;
@@ -598,6 +599,86 @@ TEST(SceneFiles, TorusIsUnderTheDomeAndTheLightOutside) {
     }
     for (const auto& p : trianglesOf(g, "Light").positions)
         ASSERT_GT(glm::length(p - base), outer);
+}
+
+// The lamp room (PMC-IP / PMC-HI fig. 1): a closed room, walls facing in, with everything inside
+// it; lit by a bulb in an open lamp shade and a window; no glass, no mirrors, no near-specular
+// coat (caustic-free); and the camera cannot see the bulb: the bulb lies inside the shade's
+// truncated cone between its rims and the eye outside it, level with it, so the segment from the
+// eye to any point of the bulb leaves the (convex) cone through its side, the shade.
+TEST(SceneFiles, LampRoomIsClosedCausticFreeAndHidesItsBulb) {
+    SceneData g;
+    ASSERT_NO_FATAL_FAILURE(loadScene("lamp-room", g));
+    Triangles room;
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const std::string wall :
+         {"Floor", "Ceiling", "BackWall", "FrontWall", "LeftWall", "RightWall"}) {
+        const Triangles t = trianglesOf(g, wall);
+        ASSERT_EQ(t.positions.size(), 6u) << wall;
+        room.positions.insert(room.positions.end(), t.positions.begin(), t.positions.end());
+    }
+    for (const auto& p : room.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const glm::dvec3 extent = hi - lo;
+    EXPECT_NEAR(closedVolume(room), -extent.x * extent.y * extent.z, 1e-9);  // closed, facing in
+    for (const auto& mesh : g.json["meshes"]) {
+        for (const auto& p : trianglesOf(g, mesh["name"].get<std::string>()).positions) {
+            ASSERT_TRUE(glm::all(glm::greaterThanEqual(p, lo)) &&
+                        glm::all(glm::lessThanEqual(p, hi)))
+                << mesh["name"];
+        }
+    }
+
+    std::set<std::string> emitters;
+    for (const auto& m : g.json["materials"]) {
+        if (emission(m) != glm::dvec3(0.0))
+            emitters.insert(m["name"].get<std::string>());
+        EXPECT_FALSE(m.contains("extensions") &&
+                     m["extensions"].contains("KHR_materials_transmission"))
+            << m["name"];
+        const Json& pbr = m["pbrMetallicRoughness"];
+        EXPECT_EQ(pbr.value("metallicFactor", 1.0), 0.0) << m["name"];
+        EXPECT_GE(pbr.value("roughnessFactor", 1.0), 0.3) << m["name"];
+    }
+    EXPECT_EQ(emitters, (std::set<std::string>{"Bulb", "Window"}));
+    EXPECT_GT(powerOverPi(g, "Bulb"), 1.5 * powerOverPi(g, "Window"));  // lit mostly by the lamp
+
+    // The shade: a vertical truncated cone open at both ends, radius r(y) between its rims.
+    const Triangles shade = trianglesOf(g, "LampShade");
+    ASSERT_FALSE(shade.positions.empty());
+    glm::dvec3 axis(0.0);
+    double bottom = std::numeric_limits<double>::max(), top = -bottom;
+    for (const auto& p : shade.positions) {
+        axis += p / double(shade.positions.size());
+        bottom = std::min(bottom, p.y);
+        top = std::max(top, p.y);
+    }
+    double bottomRadius = 0.0, topRadius = 0.0;
+    for (const auto& p : shade.positions) {
+        const double r = glm::length(glm::dvec2(p.x - axis.x, p.z - axis.z));
+        (p.y == bottom ? bottomRadius : topRadius) = r;
+    }
+    auto radiusAt = [&](double y) {
+        return bottomRadius + (topRadius - bottomRadius) * (y - bottom) / (top - bottom);
+    };
+    // The cone's polygon is inscribed in the circle of radius r: its sides are r cos(pi / n) away.
+    const double inscribed = std::cos(std::numbers::pi / double(shade.positions.size() / 6));
+    for (const auto& p : trianglesOf(g, "Bulb").positions) {
+        EXPECT_GT(p.y, bottom);
+        EXPECT_LT(p.y, top);
+        EXPECT_LT(glm::length(glm::dvec2(p.x - axis.x, p.z - axis.z)), inscribed * radiusAt(p.y));
+    }
+    glm::dvec3 eye(0.0);
+    for (const auto& n : g.json["nodes"]) {
+        if (n.contains("camera"))
+            eye = {n["translation"][0].get<double>(), n["translation"][1].get<double>(),
+                   n["translation"][2].get<double>()};
+    }
+    EXPECT_GT(eye.y, bottom);
+    EXPECT_LT(eye.y, top);
+    EXPECT_GT(glm::length(glm::dvec2(eye.x - axis.x, eye.z - axis.z)), radiusAt(eye.y));
 }
 
 // Every scene file in scenes/ is one of the scenes above (so the tests here and in
