@@ -5,8 +5,10 @@
 // Work-set bindings of photon_shoot.comp and the gather kernels (pm_gather*.comp), beside the
 // path tracer's PT_BINDING_* (0..3) and PMC-HI's feedback bindings (6..8).
 PMCR_CONST uint PM_BINDING_SLOTS = 9;     // Photon[path * slotsPerPath + k]: what shooting stores
-PMCR_CONST uint PM_BINDING_PHOTONS = 10;  // Photon[]: this pass's photons sorted by grid bucket
-PMCR_CONST uint PM_BINDING_CELLS = 11;    // uvec2[hashSize]: (first photon, count) per bucket
+PMCR_CONST uint PM_BINDING_PHOTONS = 10;  // Photon[]: this pass's photons sorted by grid bucket,
+                                          // then its caustic photons again, sorted by theirs
+PMCR_CONST uint PM_BINDING_CELLS = 11;    // uvec2[]: (first photon, count) per bucket, the
+                                          // global grid's buckets then the caustic grid's
 PMCR_CONST uint PM_BINDING_INFO = 12;     // PhotonMapInfo: this pass's radius and grid
 
 // Photon.flags
@@ -43,17 +45,21 @@ PMCR_CONST uint COUNTER_PM_PHOTONS_VISITED = 7;  // photons read by lookups
 PMCR_CONST uint COUNTER_PM_PHOTONS_USED = 8;     // of which within the radius
 
 // One pass's photon map, as the gather kernels read it.
+// Two grids of the same cells: every photon (the global map), and the caustic photons alone (the
+// caustic map, so that its lookups read no other photon).
 struct PhotonMapInfo {
     float radius;      // r of this pass (progressive: shrinks from pass to pass)
     float cellSize;    // 2 r: a disc of radius r around a point meets at most 2 x 2 x 2 cells
-    uint hashMask;     // hashSize - 1 (a power of two)
+    uint hashMask;     // the global grid's bucket count - 1 (a power of two)
     uint kernel;       // PM_KERNEL_*
     uint gatherRays;   // final gather rays per gather point (0: read the map at the gather point)
     uint maxLookup;    // photons one lookup reads at most, maxLookup / 8 per bucket (lavapipe's loop budget)
-    uint photonCount;  // photons in the map
-    uint pad;
+    uint photonCount;  // photons in the global map
+    uint causticCount;       // photons in the caustic map
+    uint causticHashMask;    // the caustic grid's bucket count - 1
+    uint causticCellOffset;  // its first bucket in the cells buffer
 };
-PMCR_CHECK_SIZE(PhotonMapInfo, 32);
+PMCR_CHECK_SIZE(PhotonMapInfo, 40);
 
 // Push constants of photon_shoot.comp.
 struct PhotonShootPush {

@@ -191,27 +191,52 @@ void PhotonMap::build(uint32_t pass) {
     }
     m_photonsStored += m_photons.size();
     if (m_r0 == 0.0) {
-        // Automatic: photonsPerDisc photons in a disc were the first pass's spread evenly.
-        m_r0 = m_options.radius > 0.0
-                   ? m_options.radius
-                   : std::sqrt(m_options.photonsPerDisc * m_surfaceArea /
-                               (3.14159265358979 * std::max<double>(1.0, double(m_photons.size()))));
-        if (!(m_r0 > 0.0) || !std::isfinite(m_r0)) m_r0 = 1e-3 * m_session.scene().info().sceneRadius;
+        // Automatic: the radius whose disc would hold photonsPerDisc of the first pass's photons
+        // spread evenly over the scene's surface, but at most kFootprintPixels pixels' footprint
+        // at the scene's centre (scenes with a vast ground plane would otherwise blur by metres).
+        constexpr double kFootprintPixels = 4.0;
+        const gpu::SceneInfo& info = m_session.scene().info();
+        const double spread = std::sqrt(m_options.photonsPerDisc * m_surfaceArea /
+                                        (3.14159265358979 * std::max<double>(1.0, double(m_photons.size()))));
+        const double distance = glm::length(glm::dvec3(info.sceneCenter) - glm::dvec3(info.cameraPosition));
+        const double footprint = kFootprintPixels * distance * 2.0 * info.tanHalfFovY / double(info.height);
+        m_r0 = m_options.radius > 0.0 ? m_options.radius : std::min(spread, footprint > 0.0 ? footprint : spread);
+        if (!(m_r0 > 0.0) || !std::isfinite(m_r0)) m_r0 = 1e-3 * info.sceneRadius;
     }
     const float radius = float(photonPassRadius(m_r0, pass, m_options.progressive, m_options.alpha));
+    // The global grid (every photon), then the caustic grid (the caustic photons again), in one
+    // photon buffer and one cells buffer (photon_types.h PhotonMapInfo).
+    m_caustics.clear();
+    for (const gpu::Photon& p : m_photons)
+        if (p.flags & gpu::PHOTON_CAUSTIC) m_caustics.push_back(p);
     const uint32_t hashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(m_photons.size())));
+    const uint32_t causticHashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(m_caustics.size())));
+    std::vector<gpu::Photon> sortedCaustics;
+    std::vector<glm::uvec2> causticCells;
     buildPhotonGrid(m_photons, 2.0f * radius, hashSize, m_sorted, m_cellData);
-    if (!m_cells.valid() || m_cells.size() < hashSize * sizeof(glm::uvec2)) {
-        m_cells = vk::Buffer(m_session.context(), uint64_t(hashSize) * sizeof(glm::uvec2),
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photon grid");
+    buildPhotonGrid(m_caustics, 2.0f * radius, causticHashSize, sortedCaustics, causticCells);
+    for (glm::uvec2& cell : causticCells) cell.x += uint32_t(m_sorted.size());
+    m_sorted.insert(m_sorted.end(), sortedCaustics.begin(), sortedCaustics.end());
+    m_cellData.insert(m_cellData.end(), causticCells.begin(), causticCells.end());
+    const VkDeviceSize photonBytes = std::max<VkDeviceSize>(16, m_sorted.size() * sizeof(gpu::Photon));
+    if (!m_photonBuffer.valid() || m_photonBuffer.size() < photonBytes) {
+        m_photonBuffer = vk::Buffer(m_session.context(), photonBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photons");
+        m_work->bind(gpu::PM_BINDING_PHOTONS, m_photonBuffer);
+    }
+    const VkDeviceSize cellBytes = m_cellData.size() * sizeof(glm::uvec2);
+    if (!m_cells.valid() || m_cells.size() < cellBytes) {
+        m_cells = vk::Buffer(m_session.context(), cellBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photon grid");
         m_work->bind(gpu::PM_BINDING_CELLS, m_cells);
     }
     m_cells.upload(m_cellData);
-    if (!m_sorted.empty()) m_slots.upload(m_sorted);
+    if (!m_sorted.empty()) m_photonBuffer.upload(m_sorted);
     m_info.radius = radius;
     m_info.cellSize = 2.0f * radius;
     m_info.hashMask = hashSize - 1;
-    m_info.photonCount = uint32_t(m_sorted.size());
+    m_info.photonCount = uint32_t(m_photons.size());
+    m_info.causticCount = uint32_t(m_caustics.size());
+    m_info.causticHashMask = causticHashSize - 1;
+    m_info.causticCellOffset = hashSize;
     m_infoBuffer.upload(&m_info, sizeof(m_info));
     m_buildSeconds += secondsSince(start);
 }
@@ -220,8 +245,8 @@ void PhotonMap::preparePass(uint32_t pass, vk::DescriptorSet& work) {
     if (m_work != &work) {
         m_work = &work;
         work.bind(gpu::PM_BINDING_SLOTS, m_slots);
-        work.bind(gpu::PM_BINDING_PHOTONS, m_slots);
         work.bind(gpu::PM_BINDING_INFO, m_infoBuffer);
+        if (m_photonBuffer.valid()) work.bind(gpu::PM_BINDING_PHOTONS, m_photonBuffer);
         if (m_cells.valid()) work.bind(gpu::PM_BINDING_CELLS, m_cells);
     }
     if (m_passesShot > 0 && !m_options.progressive) return;
@@ -236,6 +261,7 @@ nlohmann::json PhotonMap::stats() {
     j["photon_paths_per_pass"] = m_options.photonsPerPass;
     j["photons_stored"] = m_photonsStored;
     j["photons_per_pass"] = m_passesShot ? double(m_photonsStored) / m_passesShot : 0.0;
+    j["caustic_photons_last_pass"] = m_info.causticCount;
     j["radius_initial"] = m_r0;
     j["radius_final"] = m_info.radius;
     j["progressive"] = m_options.progressive;

@@ -6,17 +6,20 @@
 //
 // Radius: --radius in scene units, or (0, the default) the radius whose disc would hold
 // --photons-per-disc of the first pass's photons were they spread evenly over the scene's
-// surface area. Progressive (the default) shrinks it from pass to pass, r_{i+1}^2 =
+// surface area, at most 4 pixels' footprint at the distance of the scene's centre. Progressive (the default) shrinks it from pass to pass, r_{i+1}^2 =
 // r_i^2 (i + alpha) / (i + 1) (Hachisuka and Jensen 2009's SPPM radius reduction in the
 // probabilistic form of Knaus and Zwicker 2011, eq. 19, one radius for every point so that the
 // final gather's hit points, new every pass, can share it): the average of the passes' images
 // converges to the path tracer's; at a fixed radius (--progressive off: one photon pass, the
 // classic two-pass renderer) the image keeps density estimation's bias.
 //
-// Memory: a pass needs 32 bytes per photon slot (paths x min(max-depth, 16) slots, the sorted
-// photons reuse the buffer) and 8 bytes per grid bucket (2 buckets per stored photon, rounded up
-// to a power of two): a pass that would exceed the device's storage buffer range fails up front
-// with a one-line error.
+// Two grids: every photon (the global map, read by the final gather) and the caustic photons
+// alone (the caustic map, read at the gather point), so a caustic lookup reads no other photon.
+//
+// Memory: a pass needs 32 bytes per photon slot (paths x min(max-depth, 16) slots), 32 per
+// stored photon (and again per caustic photon) sorted, and 8 bytes per grid bucket (2 buckets
+// per photon, rounded up to a power of two): a pass whose slots or buckets would exceed the
+// device's storage buffer range fails up front with a one-line error.
 #pragma once
 
 #include <cstdint>
@@ -91,13 +94,14 @@ private:
     double m_r0 = 0.0;
     double m_surfaceArea = 0.0;
     gpu::PhotonMapInfo m_info{};
-    vk::Buffer m_slots;  // shooting's slots, then this pass's sorted photons
+    vk::Buffer m_slots;         // what shooting stores
+    vk::Buffer m_photonBuffer;  // this pass's photons sorted by bucket, then its caustic ones
     vk::Buffer m_cells;
     vk::Buffer m_infoBuffer;
     uint64_t m_photonsStored = 0;
     double m_shootSeconds = 0.0;
     double m_buildSeconds = 0.0;
-    std::vector<gpu::Photon> m_photons, m_sorted;
+    std::vector<gpu::Photon> m_photons, m_caustics, m_sorted;
     std::vector<glm::uvec2> m_cellData;
 };
 

@@ -27,11 +27,11 @@ layout(set = WORK_SET, binding = PM_BINDING_INFO, scalar) readonly buffer Photon
     PhotonMapInfo photonMap;
 };
 
-// The bucket of grid cell c (Teschner et al. 2003, "Optimized Spatial Hashing for Collision
-// Detection of Deformable Objects"); the host's photonCellBucket is the same function.
-uint photonCellBucket(ivec3 c) {
-    return ((uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u)) &
-           photonMap.hashMask;
+// The hash of grid cell c (Teschner et al. 2003, "Optimized Spatial Hashing for Collision
+// Detection of Deformable Objects"), masked to a grid's bucket count; the host's
+// photonCellBucket is the same function.
+uint photonCellHash(ivec3 c) {
+    return (uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u);
 }
 
 // The kernel's weight at squared distance d2 < r2, times pi r^2 (the caller divides by it).
@@ -51,17 +51,18 @@ struct LookupStats {
 
 LookupStats lookupStatsCreate() { return LookupStats(0u, 0u, 0u, 0u); }
 
-// The bucket of corner c (0..7) of the 2 x 2 x 2 cells from `lo`.
-uint photonCornerBucket(ivec3 lo, uint c) {
-    return photonCellBucket(lo + ivec3(c & 1u, (c >> 1) & 1u, (c >> 2) & 1u));
+// The hash of corner c (0..7) of the 2 x 2 x 2 cells from `lo`, masked.
+uint photonCornerBucket(ivec3 lo, uint c, uint mask) {
+    return photonCellHash(lo + ivec3(c & 1u, (c >> 1) & 1u, (c >> 2) & 1u)) & mask;
 }
 
-// Radiance reflected at sh towards sh's wo by the photons within the radius whose flags hold
-// every bit of `require` and none of `exclude`; u in [0, 1) picks the offset of strided buckets. A Lambertian surface sums the photons' flux on
+// Radiance reflected at sh towards sh's wo by the photons within the radius of the caustic map
+// (caustic) or the global one, whose flags hold none of `exclude`; u in [0, 1) picks the offset
+// of strided buckets. Cells the disc's bounding sphere misses are skipped. A Lambertian surface sums the photons' flux on
 // its front side and multiplies by its f once; other BSDFs are evaluated per photon. (Two
 // loops, not one with a branch inside: lavapipe runs both sides of a branch under lane masks,
 // but a loop whose lanes are all masked off ends at once.)
-vec3 photonRadiance(ShadingPoint sh, uint require, uint exclude, float u, inout LookupStats stats) {
+vec3 photonRadiance(ShadingPoint sh, bool caustic, uint exclude, float u, inout LookupStats stats) {
     float r = photonMap.radius;
     float r2 = r * r;
     vec3 x = sh.surface.position;
@@ -72,15 +73,20 @@ vec3 photonRadiance(ShadingPoint sh, uint require, uint exclude, float u, inout 
     uint perBucket = max(photonMap.maxLookup / 8u, 1u);
     stats.lookups += 1u;
     bool strided = false;
+    uint mask = caustic ? photonMap.causticHashMask : photonMap.hashMask;
+    uint cellOffset = caustic ? photonMap.causticCellOffset : 0u;
     for (uint c = 0u; c < 8u; ++c) {
         ivec3 cell = lo + ivec3(c & 1u, (c >> 1) & 1u, (c >> 2) & 1u);
         if (any(greaterThan(cell, hi))) continue;
+        vec3 boxMin = vec3(cell) * photonMap.cellSize;
+        vec3 nearest = clamp(x, boxMin, boxMin + photonMap.cellSize);
+        if (dot(nearest - x, nearest - x) > r2) continue;
         // Cells that share a bucket: read it once, at the first of them.
-        uint bucket = photonCellBucket(cell);
+        uint bucket = photonCellHash(cell) & mask;
         bool again = false;
-        for (uint k = 0u; k < c; ++k) again = again || photonCornerBucket(lo, k) == bucket;
+        for (uint k = 0u; k < c; ++k) again = again || photonCornerBucket(lo, k, mask) == bucket;
         if (again) continue;
-        uvec2 range = cells[bucket];
+        uvec2 range = cells[cellOffset + bucket];
         uint stride = (range.y + perBucket - 1u) / perBucket;
         uint offset = 0u;
         float weight = 1.0;
@@ -99,7 +105,7 @@ vec3 photonRadiance(ShadingPoint sh, uint require, uint exclude, float u, inout 
                 vec3 d = photons[i].position - x;
                 float d2 = dot(d, d);
                 uint flags = photons[i].flags;
-                if (!(d2 < r2) || (flags & require) != require || (flags & exclude) != 0u) continue;
+                if (!(d2 < r2) || (flags & exclude) != 0u) continue;
                 vec3 wi = octDecode(unpackSnorm2x16(photons[i].direction));
                 // shadingEval's side checks: wi above both the geometric and the shading normal.
                 if (!(dot(wi, sh.ng) > 0.0) || !(dot(wi, sh.frame.n) > 0.0)) continue;
@@ -112,7 +118,7 @@ vec3 photonRadiance(ShadingPoint sh, uint require, uint exclude, float u, inout 
                 vec3 d = photons[i].position - x;
                 float d2 = dot(d, d);
                 uint flags = photons[i].flags;
-                if (!(d2 < r2) || (flags & require) != require || (flags & exclude) != 0u) continue;
+                if (!(d2 < r2) || (flags & exclude) != 0u) continue;
                 stats.used += 1u;
                 vec3 wi = octDecode(unpackSnorm2x16(photons[i].direction));
                 float pdf, absCos;

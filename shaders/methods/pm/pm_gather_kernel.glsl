@@ -75,7 +75,7 @@ vec3 finalGather(ShadingPoint sh, uint depth, inout Sampler smp, inout uint rays
             ShadingPoint y = makeShadingPoint(s, -dir);
             if (deltaAtX && k > 0u) L += w * emittedRadiance(s, -dir);
             if (bsdfHasNonDelta(y.bsdf)) {
-                L += w * photonRadiance(y, 0u, 0u, samplerGet1D(smp), gLookups);
+                L += w * photonRadiance(y, false, 0u, samplerGet1D(smp), gLookups);
                 break;
             }
             if (k == chainMax) break;
@@ -145,11 +145,12 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
         addDirectLighting(sh, smp, push.lightSamples, rays, Lx);
 #endif
         if (depth + 1u < push.maxDepth) {
-            Lx += photonRadiance(sh, PHOTON_CAUSTIC, 0u, samplerGet1D(smp), gLookups);
+            float uCaustic = samplerGet1D(smp);
+            if (photonMap.causticCount > 0u) Lx += photonRadiance(sh, true, 0u, uCaustic, gLookups);
             if (photonMap.gatherRays > 0u)
                 Lx += finalGather(sh, depth, smp, rays);
             else
-                Lx += photonRadiance(sh, 0u, PHOTON_DIRECT | PHOTON_CAUSTIC, samplerGet1D(smp), gLookups);
+                Lx += photonRadiance(sh, false, PHOTON_DIRECT | PHOTON_CAUSTIC, samplerGet1D(smp), gLookups);
         }
         L += beta * Lx;
     }
