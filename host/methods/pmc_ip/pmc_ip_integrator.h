@@ -19,6 +19,7 @@
 
 #include "methods/pmc_hi/pmc_hi.h"
 #include "methods/pmc_ip/image_plane_sampler.h"
+#include "render/baseline_options.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
 
@@ -39,6 +40,7 @@ private:
     uint32_t m_lightSamples = 1;
     PmcHiOptions m_hi;
     bool m_feedback = true;
+    BaselineOptions m_baseline;  // --pixel-sampler (every estimator), --mis (Full and Direct)
 };
 
 // The registry entries (render/methods.cpp) of `pmc-ip`, `pmc-ip-direct` and `pmc-ip-hi`.
