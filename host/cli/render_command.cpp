@@ -154,14 +154,21 @@ void printRenderHelp() {
         "\n"
         "Ctrl-C stops the render and still writes the image so far (exit status 130).\n"
         "\n"
+        "Method options marked [BIASED] make the method biased (off by default); those marked\n"
+        "[PAPER BASELINE] select the weaker baseline a paper compared with\n"
+        "(docs/paper-baselines.md).\n"
+        "\n"
         "methods:\n",
         kEnvironmentHelp);
     for (const auto& m : methods()) {
         std::printf("  %-14s %s%s\n", m.name.c_str(), m.summary.c_str(),
                     m.create ? "" : (" [not implemented yet: " + m.plannedIn + "]").c_str());
-        for (const auto& o : m.options)
-            std::printf("      --%-18s %s (default %s)%s\n", o.name.c_str(), o.help.c_str(),
-                        o.defaultValue.c_str(), o.biased ? " [BIASED]" : "");
+        for (const auto& o : m.options) {
+            const std::string baseline =
+                o.paperBaseline.empty() ? "" : " [PAPER BASELINE " + o.paperBaseline + "]";
+            std::printf("      --%-18s %s (default %s)%s%s\n", o.name.c_str(), o.help.c_str(),
+                        o.defaultValue.c_str(), o.biased ? " [BIASED]" : "", baseline.c_str());
+        }
     }
 }
 

@@ -18,6 +18,9 @@ struct MethodOption {
     std::string defaultValue;
     std::string help;
     bool biased = false;       // a biased option (ERPT's noise filters): labelled in --help
+    // A paper's own baseline (render/baseline_options.h): which value reproduces which paper's
+    // conditions, labelled in --help. Empty for other options.
+    std::string paperBaseline;
 };
 
 struct MethodInfo {

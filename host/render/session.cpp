@@ -23,8 +23,8 @@ RenderSession::RenderSession(vk::Context& context, const Scene& scene,
     m_start = std::chrono::steady_clock::now();
 }
 
-const vk::Kernel& RenderSession::kernel(const std::string& name) {
-    const vk::Kernel& k = m_context.kernel(name, m_scene->features());
+const vk::Kernel& RenderSession::kernel(const std::string& name, uint32_t kernelOptions) {
+    const vk::Kernel& k = m_context.kernel(name, m_scene->features(), kernelOptions);
     if (std::find(m_kernels.begin(), m_kernels.end(), &k) == m_kernels.end()) m_kernels.push_back(&k);
     return k;
 }

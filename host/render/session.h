@@ -45,9 +45,11 @@ public:
 
     vk::Context& context() { return m_context; }
     const vk::PipelineLayout& layout() const { return m_context.layout(); }
-    // The kernel `name`, specialized for the scene's features (GpuScene::features); the session
-    // warms it up when the clock starts (startClock).
-    const vk::Kernel& kernel(const std::string& name);
+    // The kernel `name`, specialized for the scene's features (GpuScene::features) and
+    // `kernelOptions` (gpu::KERNEL_OPTION_* bits: the papers' baselines a method was asked for,
+    // BaselineOptions::kernelOptions); the session warms it up when the clock starts
+    // (startClock).
+    const vk::Kernel& kernel(const std::string& name, uint32_t kernelOptions = 0);
     const GpuScene& scene() const { return *m_scene; }
     const RenderSettings& settings() const { return m_settings; }
     vk::GpuTimer& timer() { return *m_timer; }

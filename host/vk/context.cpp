@@ -433,9 +433,10 @@ const PipelineLayout& Context::layout() {
     return *m_layout;
 }
 
-const Kernel& Context::kernel(const std::string& shaderName, uint32_t sceneFeatures) {
-    auto& slot = m_kernels[{shaderName, sceneFeatures}];
-    if (!slot) slot = std::make_unique<Kernel>(layout(), shaderName, sceneFeatures);
+const Kernel& Context::kernel(const std::string& shaderName, uint32_t sceneFeatures,
+                              uint32_t kernelOptions) {
+    auto& slot = m_kernels[{shaderName, sceneFeatures, kernelOptions}];
+    if (!slot) slot = std::make_unique<Kernel>(layout(), shaderName, sceneFeatures, kernelOptions);
     return *slot;
 }
 

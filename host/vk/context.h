@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace pmcr::vk {
@@ -77,8 +78,10 @@ public:
     // built on first use and kept: lavapipe translates SPIR-V on every pipeline creation (tenths
     // of a second for the path tracer), so a process that renders many times builds each once.
     const PipelineLayout& layout();
-    // `sceneFeatures` specializes it (Kernel): one pipeline per shader and feature set.
-    const Kernel& kernel(const std::string& shaderName, uint32_t sceneFeatures = 0);
+    // `sceneFeatures` and `kernelOptions` specialize it (Kernel): one pipeline per shader,
+    // feature set and option set.
+    const Kernel& kernel(const std::string& shaderName, uint32_t sceneFeatures = 0,
+                         uint32_t kernelOptions = 0);
 
 private:
     void destroy();
@@ -104,7 +107,7 @@ private:
     std::vector<std::string> m_messages;
 
     std::unique_ptr<PipelineLayout> m_layout;
-    std::map<std::pair<std::string, uint32_t>, std::unique_ptr<Kernel>> m_kernels;
+    std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Kernel>> m_kernels;
 };
 
 }  // namespace pmcr::vk

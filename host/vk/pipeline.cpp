@@ -132,7 +132,8 @@ void DescriptorSet::bind(uint32_t binding, const Buffer& buffer) {
     vkUpdateDescriptorSets(m_context.device(), 1, &write, 0, nullptr);
 }
 
-Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures)
+Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures,
+               uint32_t kernelOptions)
     : m_context(layout.context()), m_name(shaderName) {
     auto code = spirv(shaderName);
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -146,9 +147,12 @@ Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName, uint
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
-    // Constant 0 is kSceneFeatures; a shader that does not declare it ignores it.
-    const VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
-    const VkSpecializationInfo specialization{1, &entry, sizeof(uint32_t), &sceneFeatures};
+    // Constant 0 is kSceneFeatures, 1 kKernelOptions; a shader that does not declare one
+    // ignores it.
+    const uint32_t constants[2] = {sceneFeatures, kernelOptions};
+    const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)},
+                                                 {1, sizeof(uint32_t), sizeof(uint32_t)}};
+    const VkSpecializationInfo specialization{2, entries, sizeof(constants), constants};
     info.stage.pSpecializationInfo = &specialization;
     info.layout = layout.handle();
     VkResult result =

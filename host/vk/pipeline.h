@@ -65,8 +65,11 @@ private:
 class Kernel {
 public:
     // The pipeline of shader `shaderName` with its specialization constant 0 (kSceneFeatures,
-    // shaders/common/scene.glsl) set to `sceneFeatures` (gpu::SCENE_FEATURE_* bits).
-    Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures = 0);
+    // shaders/common/scene.glsl) set to `sceneFeatures` (gpu::SCENE_FEATURE_* bits) and
+    // constant 1 (kKernelOptions, shaders/common/kernel_options.glsl) to `kernelOptions`
+    // (gpu::KERNEL_OPTION_* bits).
+    Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures = 0,
+           uint32_t kernelOptions = 0);
     ~Kernel();
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;

@@ -64,6 +64,17 @@ vec2 samplerGet2D(inout Sampler s) {
     return vec2(uintToUnitFloat(x), uintToUnitFloat(y));
 }
 
+// In place of samplerGet2D, a point uniform in [0, 1)^2 and independent of every other sample's,
+// with no stratification: a PCG stream seeded by a hash of (pixel or stream, render seed), the
+// sample index and the dimension. It takes the dimension pair samplerGet2D would have taken, so
+// the draws after it are the sequence's. The pixel sampler `independent` (--pixel-sampler; the
+// uniform image-plane sampling of the PMC-IP and PMC-PT papers) draws raster positions with it.
+vec2 samplerGetIndependent2D(inout Sampler s) {
+    Rng r = rngCreate(hash3(s.seed, s.index, s.dimension));
+    s.dimension += 1u;
+    return rngNext2(r);
+}
+
 float samplerGet1D(inout Sampler s) {
     uint dimSeed = hashCombine(s.seed, s.dimension);
     s.dimension += 1u;

@@ -72,4 +72,15 @@ float powerHeuristic(float nA, float pdfA, float nB, float pdfB) {
     return powerHeuristic(nA * pdfA, nB * pdfB);
 }
 
+// Veach's balance heuristic (Veach 1997, eq. 9.8), for one sample of each strategy: the weights
+// of a pair of strategies sum to one as the power heuristic's do (tests/gpu/test_sampling.cpp).
+float balanceHeuristic(float pdfA, float pdfB) {
+    if (isinf(pdfA)) return 1.0;
+    return pdfA + pdfB > 0.0 ? pdfA / (pdfA + pdfB) : 0.0;
+}
+// Balance heuristic for nA samples of strategy A against nB samples of B.
+float balanceHeuristic(float nA, float pdfA, float nB, float pdfB) {
+    return balanceHeuristic(nA * pdfA, nB * pdfB);
+}
+
 #endif

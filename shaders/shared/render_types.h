@@ -37,8 +37,16 @@ PMCR_CONST uint PT_FLAG_DEPOSIT = 1u;        // add each sample to the film at i
 PMCR_CONST uint PT_FLAG_WRITE_RESULTS = 2u;  // write each sample's radiance to results[i]
 PMCR_CONST uint PT_FLAG_RECORD_PATHS = 4u;   // write each sample's path vertices (ERPT, PMC-ER)
 
+// Options a render specializes its kernels for (specialization constant 1, kKernelOptions in
+// common/kernel_options.glsl): the papers' weaker baselines (host/render/baseline_options.h).
+PMCR_CONST uint KERNEL_OPTION_INDEPENDENT_PIXELS = 1u;  // --pixel-sampler independent: a camera
+                                                        // sample uniform in its pixel, no strata
+PMCR_CONST uint KERNEL_OPTION_BALANCE_HEURISTIC = 2u;   // --mis balance: MIS weights by the
+                                                        // balance heuristic (default: power)
+
 // A camera sample asked for by an adaptive sampler. For PT_SOURCE_LIST the position inside
-// the pixel comes from the pixel's own stratified sequence at sampleIndex; for
+// the pixel comes from the pixel's own stratified sequence at sampleIndex (or is independent of
+// the pixel's other samples, KERNEL_OPTION_INDEPENDENT_PIXELS); for
 // PT_SOURCE_POINTS `raster` is used as given and sampleIndex only seeds the path's sampler.
 struct SampleRequest {
     uint pixel;

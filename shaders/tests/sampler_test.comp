@@ -6,6 +6,7 @@
 //           index sampleBase + s: `dimensions` calls of samplerGet2D, as floats at
 //           words[2 (i * dimensions + d) + {0, 1}]
 //   mode 2: as mode 1 with samplerGet1D, at words[i * dimensions + d]
+//   mode 3: as mode 1 with samplerGetIndependent2D in place of the first samplerGet2D
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -41,8 +42,8 @@ void main() {
     Sampler s = samplerCreate(pixel, push.sampleBase + i % push.samplesPerPixel, push.seed);
     for (uint d = 0u; d < push.dimensions; ++d) {
         uint slot = i * push.dimensions + d;
-        if (push.mode == 1u) {
-            vec2 u = samplerGet2D(s);
+        if (push.mode == 1u || push.mode == 3u) {
+            vec2 u = push.mode == 3u && d == 0u ? samplerGetIndependent2D(s) : samplerGet2D(s);
             words[2u * slot] = floatBitsToUint(u.x);
             words[2u * slot + 1u] = floatBitsToUint(u.y);
         } else {

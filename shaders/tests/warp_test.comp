@@ -7,6 +7,9 @@
 //   3: (sampleUniformCone(u, cosThetaMax), uniformConePdf(cosThetaMax))
 //   4: (sampleUniformTriangle(u), 0, 0)
 // Mode 5 evaluates densities at directions[i]: (cosineHemispherePdf(z), uniformConePdf, 0, 0).
+// Mode 6 evaluates the MIS heuristics at pdfs (a, b) = directions[i].xy and sample counts
+// (nA, nB) = directions[i].zw: (powerHeuristic(nA, a, nB, b), powerHeuristic(nB, b, nA, a),
+// balanceHeuristic(nA, a, nB, b), balanceHeuristic(nB, b, nA, a)).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -27,6 +30,14 @@ layout(push_constant, scalar) uniform Push {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.count) return;
+    if (push.mode == 6u) {
+        vec4 v = directions[i];
+        results[i] = vec4(powerHeuristic(v.z, v.x, v.w, v.y),
+                          powerHeuristic(v.w, v.y, v.z, v.x),
+                          balanceHeuristic(v.z, v.x, v.w, v.y),
+                          balanceHeuristic(v.w, v.y, v.z, v.x));
+        return;
+    }
     if (push.mode == 5u) {
         results[i] = vec4(cosineHemispherePdf(directions[i].z), uniformConePdf(push.cosThetaMax),
                           0.0, 0.0);

@@ -70,6 +70,13 @@ expect_error "zero samples" "--spp" -- render "$src/scenes/furnace.glb" --spp 0 
 expect_error "missing value" "--spp: missing value" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.exr" --spp
 expect_error "bad method option value" "--chain-length" -- render "$src/scenes/furnace.glb" --method erpt --chain-length 0 -o "$tmp/out/x.exr"
 expect_error "option of another method" "--chain-length.*pt" -- render "$src/scenes/furnace.glb" --method pt --chain-length 5 -o "$tmp/out/x.exr"
+# The papers' baselines (docs/paper-baselines.md): a bad value, or a method that does not take them.
+expect_error "bad pixel sampler" "--pixel-sampler.*foo" -- render "$src/scenes/furnace.glb" --pixel-sampler foo -o "$tmp/out/x.exr"
+expect_error "bad pixel sampler, pmc-ip" "--pixel-sampler.*foo" -- render "$src/scenes/furnace.glb" --method pmc-ip --pixel-sampler foo -o "$tmp/out/x.exr"
+expect_error "bad MIS heuristic" "--mis.*foo" -- render "$src/scenes/furnace.glb" --mis foo -o "$tmp/out/x.exr"
+expect_error "bad MIS heuristic, direct" "--mis.*foo" -- render "$src/scenes/furnace.glb" --method direct --mis foo -o "$tmp/out/x.exr"
+expect_error "pixel sampler, erpt" "--pixel-sampler.*erpt" -- render "$src/scenes/furnace.glb" --method erpt --pixel-sampler independent -o "$tmp/out/x.exr"
+expect_error "MIS heuristic, pmc-hi" "--mis.*pmc-hi" -- render "$src/scenes/furnace.glb" --method pmc-hi --mis balance -o "$tmp/out/x.exr"
 expect_error "mlt large-step zero" "--large-step" -- render "$src/scenes/furnace.glb" --method mlt --large-step 0 -o "$tmp/out/x.exr"
 expect_error "mlt mutation" "--mutation" -- render "$src/scenes/furnace.glb" --method mlt --mutation bogus -o "$tmp/out/x.exr"
 expect_error "mlt bootstrap" "--bootstrap" -- render "$src/scenes/furnace.glb" --method mlt --bootstrap 0 -o "$tmp/out/x.exr"

@@ -25,6 +25,13 @@ grep -E -- '--filter-(proposals|consecutive)' "$tmp/render-help" | grep -q BIASE
     fail "render --help does not mark ERPT's filters as biased"
 [ "$(grep -cE -- '--filter-(proposals|consecutive).*\[BIASED\]' "$tmp/render-help")" -eq 2 ] ||
     fail "both ERPT filters must be marked [BIASED]"
+# The papers' baselines are labelled as such wherever a method lists them (docs/paper-baselines.md).
+for opt in pixel-sampler mis; do
+    listed=$(grep -cE -- "^ +--$opt " "$tmp/render-help")
+    labelled=$(grep -cE -- "^ +--$opt .*\[PAPER BASELINE [a-z]+: " "$tmp/render-help")
+    [ "$listed" -gt 0 ] && [ "$listed" -eq "$labelled" ] ||
+        fail "--$opt: listed $listed times, labelled [PAPER BASELINE] $labelled times"
+done
 
 "$pmcr" --list-devices >"$tmp/devices" || fail "pmcr --list-devices exited with $?"
 line=$(grep -m1 -- '- usable$' "$tmp/devices") || fail "no usable device listed: $(cat "$tmp/devices")"

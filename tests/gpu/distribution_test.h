@@ -16,9 +16,10 @@ namespace pmcr::test {
 
 // Number of chi-square tests run through chi2Passes in pmcr_gpu_tests (rng 3, sampler 4, warps 8,
 // GGX 20, BSDF 61, lights 5, environment 1, PMC-HI mixture 2, ERPT mutations 2, PMC-ER radius
-// mixture 1, PSSMLT mutations 5): each runs at the Sidak level that keeps the whole suite's probability of rejecting a correct routine at 1%. Update it when
+// mixture 1, PSSMLT mutations 5, independent pixel samples 2): each runs at the Sidak level that
+// keeps the whole suite's probability of rejecting a correct routine at 1%. Update it when
 // adding tests.
-constexpr int kSuiteChi2Tests = 112;
+constexpr int kSuiteChi2Tests = 114;
 constexpr double kSuiteAlpha = 0.01;
 
 // Pearson's test of observed against expected counts (pooling cells below 5 expected) at the

@@ -1,6 +1,7 @@
 // shaders/common/sampler.glsl: the Sobol and scrambling building blocks equal straightforward
 // C++ references, every aligned block of 2^k samples of a pixel is a (0,k,2)-net in every
-// dimension pair (a (0,k)-net in 1D), and pixels and dimensions are decorrelated.
+// dimension pair (a (0,k)-net in 1D), pixels and dimensions are decorrelated, and an independent
+// draw in place of the first pair leaves the others as they were.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -56,11 +57,11 @@ uint32_t nestedUniformScrambleReference(uint32_t x, uint32_t seed) {
 
 class SamplerTest : public GpuTest {
 protected:
-    // Floats written by modes 1 and 2: (pixels * spp) invocations of `dimensions` draws.
+    // Floats written by modes 1, 2 and 3: (pixels * spp) invocations of `dimensions` draws.
     std::vector<float> draw(uint32_t mode, uint32_t pixels, uint32_t spp, uint32_t dimensions,
                             uint32_t pixelBase, uint32_t pixelStride, uint32_t seed) {
         const uint32_t n = pixels * spp;
-        const size_t words = size_t(n) * dimensions * (mode == 1 ? 2 : 1);
+        const size_t words = size_t(n) * dimensions * (mode == 2 ? 1 : 2);
         auto unused = zeros(16);
         auto out = zeros(words * 4, "sampler draws");
         run("tests/sampler_test",
@@ -184,6 +185,25 @@ TEST_F(SamplerTest, PixelsAndDimensionsAreDecorrelated) {
     }
     EXPECT_TRUE(chi2Passes(xs, uniform(65536), "x of pairs 0 and 1 within pixels"));
     EXPECT_TRUE(chi2Passes(ys, uniform(65536), "y of pairs 0 and 1 within pixels"));
+}
+
+// samplerGetIndependent2D (the pixel sampler `independent`, tests/gpu/test_pixel_sampler.cpp)
+// takes the first pair's place: its points are not the sequence's, and every later pair is drawn
+// as without it, so only the raster position of a path changes.
+TEST_F(SamplerTest, IndependentFirstPairKeepsTheOtherPairs) {
+    const uint32_t pixels = 64, spp = 16, dimensions = 4;
+    const auto sequence = draw(1, pixels, spp, dimensions, 5, 3, 9);
+    const auto independent = draw(3, pixels, spp, dimensions, 5, 3, 9);
+    size_t differ = 0;
+    for (size_t slot = 0; slot < size_t(pixels) * spp * dimensions; ++slot) {
+        if (slot % dimensions == 0) {
+            differ += sequence[2 * slot] != independent[2 * slot];
+            continue;
+        }
+        ASSERT_EQ(sequence[2 * slot], independent[2 * slot]) << "slot " << slot;
+        ASSERT_EQ(sequence[2 * slot + 1], independent[2 * slot + 1]) << "slot " << slot;
+    }
+    EXPECT_GT(differ, size_t(pixels) * spp * 99 / 100);
 }
 
 }  // namespace

@@ -1,10 +1,13 @@
 // The warps of shaders/common/sampling.glsl: samples land in their domain, their histogram over
 // equal-area or graded cells matches the documented density integrated per cell (chi-square),
-// and the density functions the kernels use integrate to 1.
+// and the density functions the kernels use integrate to 1. Its MIS heuristics (power, and
+// balance for --mis balance) give weights that sum to 1 over a light and a BSDF sample.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "distribution_test.h"
@@ -22,7 +25,9 @@ struct WarpPush {
     float cosThetaMax;
 };
 
-enum WarpMode : uint32_t { Disk = 0, CosineHemisphere, UniformSphere, UniformCone, Triangle, Pdf };
+enum WarpMode : uint32_t {
+    Disk = 0, CosineHemisphere, UniformSphere, UniformCone, Triangle, Pdf, MisWeights
+};
 
 class WarpTest : public GpuTest {
 protected:
@@ -166,6 +171,49 @@ TEST_F(WarpTest, TriangleIsUniform) {
     for (double& e : exp)
         e *= n;
     EXPECT_TRUE(chi2Passes(counts, exp, "sampleUniformTriangle"));
+}
+
+// The MIS weights of a light sample and a BSDF sample (path_tracer.glsl's misWeight): for each
+// heuristic, the weight of strategy A against B plus that of B against A is 1 wherever either
+// density is positive, with one sample of each (pt) or n of each (direct) or unequal counts, at
+// densities from 1e-6 to 1e6, one of them zero, or infinite (a delta: weight 1); and each
+// weight equals Veach's formula (1997, eqs. 9.8 and 9.13).
+TEST_F(WarpTest, MisWeightsOfAPairSumToOne) {
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<glm::vec4> cases;  // (pdf A, pdf B, count A, count B)
+    std::mt19937 gen(17);
+    std::uniform_real_distribution<float> logPdf(-6.0f, 6.0f);
+    const glm::vec2 counts[] = {{1, 1}, {2, 2}, {8, 8}, {1, 4}, {3, 1}};
+    for (int i = 0; i < 4096; ++i) {
+        const glm::vec2 n = counts[i % 5];
+        cases.push_back({std::pow(10.0f, logPdf(gen)), std::pow(10.0f, logPdf(gen)), n.x, n.y});
+    }
+    for (float pdf : {1e-6f, 0.3f, 1e6f}) {
+        cases.push_back({pdf, 0.0f, 1.0f, 1.0f});
+        cases.push_back({0.0f, pdf, 2.0f, 2.0f});
+        cases.push_back({inf, pdf, 1.0f, 1.0f});
+        cases.push_back({pdf, inf, 1.0f, 1.0f});
+    }
+    auto in = storage(cases, "mis pdfs");
+    auto out = zeros(cases.size() * 16, "mis weights");
+    const uint32_t n = uint32_t(cases.size());
+    run("tests/warp_test", WarpPush{MisWeights, n, 0, 0.0f}, n, {&in, &out});
+    const auto w = out.download<glm::vec4>(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const glm::vec4 c = cases[i];
+        SCOPED_TRACE("pdfs " + std::to_string(c.x) + ", " + std::to_string(c.y) + ", counts " +
+                     std::to_string(c.z) + ", " + std::to_string(c.w));
+        ASSERT_NEAR(w[i].x + w[i].y, 1.0f, 1e-5f) << "power heuristic";
+        ASSERT_NEAR(w[i].z + w[i].w, 1.0f, 1e-5f) << "balance heuristic";
+        if (std::isinf(c.x) || std::isinf(c.y)) {
+            ASSERT_EQ(w[i].x, std::isinf(c.x) ? 1.0f : 0.0f);
+            ASSERT_EQ(w[i].z, std::isinf(c.x) ? 1.0f : 0.0f);
+            continue;
+        }
+        const double a = double(c.z) * c.x, b = double(c.w) * c.y;
+        ASSERT_NEAR(w[i].x, a * a / (a * a + b * b), 1e-5) << "power heuristic";
+        ASSERT_NEAR(w[i].z, a / (a + b), 1e-5) << "balance heuristic";
+    }
 }
 
 }  // namespace

@@ -30,9 +30,19 @@ std::vector<MethodOption> pmcIpOptions(bool direct) {
     };
     if (direct)
         options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});
+    options.push_back(pixelSamplerOption());
     return options;
 }
 
+// pmc-ip and pmc-ip-direct: the image-plane options, --pixel-sampler, and --mis for the MIS of
+// the path tracer or direct lighting under them.
+std::vector<MethodOption> pmcIpMisOptions(bool direct) {
+    std::vector<MethodOption> options = pmcIpOptions(direct);
+    options.push_back(misOption());
+    return options;
+}
+
+// pmc-ip-hi: no --mis (PMC-HI weighs by its mixture, not MIS).
 std::vector<MethodOption> pmcIpHiOptions() {
     std::vector<MethodOption> options = pmcIpOptions(false);
     for (MethodOption& o : pmcHiMethodOptions()) {
@@ -46,7 +56,8 @@ std::vector<MethodOption> pmcIpHiOptions() {
 
 }  // namespace
 
-PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator) : m_estimator(estimator) {
+PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator)
+    : m_estimator(estimator), m_baseline(parseBaselineOptions(settings)) {
     m_options.samplesPerIteration = settings.optionDouble("spp-per-iteration", 4.0);
     if (!(m_options.samplesPerIteration > 0.0 && m_options.samplesPerIteration <= 4096.0))
         throw Error("--spp-per-iteration: expected a number of samples per pixel in (0, 4096]");
@@ -84,7 +95,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
         session.kernel(m_estimator == Estimator::Full     ? pathTracingKernel(session.scene(), "pt")
                        : m_estimator == Estimator::Direct ? pathTracingKernel(session.scene(), "direct")
                        : m_estimator == Estimator::PmcHi  ? pmcHiKernel(session.scene())
-                                                          : photonGatherKernel(session.scene(), true));
+                                                          : photonGatherKernel(session.scene(), true),
+                       m_baseline.kernelOptions());
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
     ImagePlaneSampler sampler(film.width(), film.height(), m_options);
@@ -326,14 +338,15 @@ MethodInfo pmPmcMethod() {
 }
 
 MethodInfo pmcIpMethod() {
-    return {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true, pmcIpOptions(false),
+    return {"pmc-ip", "PMC-IP adaptive image-plane sampling over path tracing", true,
+        pmcIpMisOptions(false),
         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Full); },
         ""};
 }
 
 MethodInfo pmcIpDirectMethod() {
     return {"pmc-ip-direct", "PMC-IP adaptive image-plane sampling over MIS direct lighting", true,
-        pmcIpOptions(true),
+        pmcIpMisOptions(true),
         [](const RenderSettings& s) { return std::make_unique<PmcIp>(s, PmcIp::Estimator::Direct); },
         ""};
 }

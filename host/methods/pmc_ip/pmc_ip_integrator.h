@@ -25,6 +25,7 @@
 #include "methods/pm/photon_map.h"
 #include "methods/pmc_hi/pmc_hi.h"
 #include "methods/pmc_ip/image_plane_sampler.h"
+#include "render/baseline_options.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
 
@@ -46,6 +47,7 @@ private:
     PmcHiOptions m_hi;
     bool m_feedback = true;
     PhotonMapOptions m_photons;  // PhotonGather
+    BaselineOptions m_baseline;  // --pixel-sampler (every estimator), --mis (Full and Direct)
 };
 
 // The registry entries (render/methods.cpp) of `pmc-ip`, `pmc-ip-direct`, `pmc-ip-hi` and

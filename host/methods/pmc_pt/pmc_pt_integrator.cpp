@@ -68,7 +68,8 @@ uint32_t PmcPtOptions::populationFor(uint64_t pixels) const {
         16.0, std::round(poolDraws * (1.0 - defensive) / (defensive * double(mutations)))));
 }
 
-PmcPt::PmcPt(const RenderSettings& settings) : m_options(PmcPtOptions::fromSettings(settings)) {}
+PmcPt::PmcPt(const RenderSettings& settings)
+    : m_options(PmcPtOptions::fromSettings(settings)), m_baseline(parseBaselineOptions(settings)) {}
 
 RenderOutput PmcPt::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
@@ -112,7 +113,8 @@ RenderOutput PmcPt::render(RenderSession& session) {
     };
 
     // Pipelines and buffers before the clock starts.
-    const vk::Kernel& kernel = session.kernel(pathTracingKernel(session.scene(), "pt"));
+    const vk::Kernel& kernel =
+        session.kernel(pathTracingKernel(session.scene(), "pt"), m_baseline.kernelOptions());
     Film& film = session.film();
     struct Slot {
         vk::Buffer requests;
@@ -389,7 +391,8 @@ MethodInfo pmcPtMethod() {
          {"resample-rate", "0.4", "share of the population replaced per step (half pool, half beta)"},
          {"epsilon", "0.01", "floor of the alpha weights"},
          {"defensive", "0.5", "share of each step's eye paths from the stratified pool (uniform)"},
-         {"estimator", "steps", "steps: the average of each step's per-pixel averages (unbiased); average: the paper's per-pixel average over all steps", true}},
+         {"estimator", "steps", "steps: the average of each step's per-pixel averages (unbiased); average: the paper's per-pixel average over all steps", true},
+         pixelSamplerOption(), misOption()},
         [](const RenderSettings& s) { return std::make_unique<PmcPt>(s); }, ""};
 }
 

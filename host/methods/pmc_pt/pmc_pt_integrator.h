@@ -72,6 +72,7 @@
 #pragma once
 
 #include "methods/pmc_pt/pixel_population.h"
+#include "render/baseline_options.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
 
@@ -106,6 +107,7 @@ public:
 
 private:
     PmcPtOptions m_options;
+    BaselineOptions m_baseline;  // --pixel-sampler (where in its pixel a sample lands), --mis
 };
 
 // The registry entry of `pmc-pt` (render/methods.cpp).

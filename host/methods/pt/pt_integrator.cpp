@@ -14,7 +14,7 @@
 namespace pmcr {
 
 PathTracer::PathTracer(const RenderSettings& settings, Mode mode)
-    : m_mode(mode), m_lightSamples(1) {
+    : m_mode(mode), m_lightSamples(1), m_baseline(parseBaselineOptions(settings)) {
     if (mode == Mode::Direct) {
         int n = settings.optionInt("light-samples", 1);
         if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
@@ -58,7 +58,8 @@ RenderOutput PathTracer::render(RenderSession& session) {
     const vk::Kernel& kernel =
         session.kernel(m_mode == Mode::Full     ? pathTracingKernel(session.scene(), "pt")
                        : m_mode == Mode::Direct ? pathTracingKernel(session.scene(), "direct")
-                                                : pmcHiKernel(session.scene()));
+                                                : pmcHiKernel(session.scene()),
+                       m_baseline.kernelOptions());
     Film& film = session.film();
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pt work");
     bindTileWork(work, film, session);
@@ -188,21 +189,25 @@ RenderOutput PathTracer::render(RenderSession& session) {
 }
 
 MethodInfo ptMethod() {
-    return {"pt", "path tracing with next-event estimation and MIS (the baseline)", true, {},
+    return {"pt", "path tracing with next-event estimation and MIS (the baseline)", true,
+        {pixelSamplerOption(), misOption()},
         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Full); },
         ""};
 }
 
 MethodInfo directMethod() {
     return {"direct", "direct lighting only, MIS of light and BSDF sampling (the PMC-HI baseline)", true,
-        {{"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"}},
+        {{"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"},
+         pixelSamplerOption(), misOption()},
         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::Direct); },
         ""};
 }
 
 MethodInfo pmcHiMethod() {
+    std::vector<MethodOption> options = pmcHiMethodOptions();
+    options.push_back(pixelSamplerOption());  // no --mis: PMC-HI weighs by its mixture, not MIS
     return {"pmc-hi", "PMC-HI adaptive direct lighting (mixture of BSDF, light and cone sampling)", true,
-        pmcHiMethodOptions(),
+        options,
         [](const RenderSettings& s) { return std::make_unique<PathTracer>(s, PathTracer::Mode::PmcHi); },
         ""};
 }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "methods/pmc_hi/pmc_hi.h"
+#include "render/baseline_options.h"
 #include "render/integrator.h"
 #include "render/method_info.h"
 
@@ -48,6 +49,7 @@ private:
     Mode m_mode;
     uint32_t m_lightSamples;
     PmcHiOptions m_hi;
+    BaselineOptions m_baseline;  // --pixel-sampler (every mode), --mis (pt and direct)
 };
 
 // The registry entries (render/methods.cpp) of `pt`, `direct` and `pmc-hi` (this loop with

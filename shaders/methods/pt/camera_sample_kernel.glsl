@@ -9,6 +9,8 @@
 #ifndef PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 #define PMCR_CAMERA_SAMPLE_KERNEL_GLSL
 
+#include "common/kernel_options.glsl"
+
 layout(set = WORK_SET, binding = PT_BINDING_REQUESTS, scalar) readonly buffer RequestBuffer {
     SampleRequest requests[];
 };
@@ -20,13 +22,23 @@ vec2 pixelCorner(uint pixel) {
     return vec2(float(pixel % sceneInfo.width), float(pixel / sceneInfo.width));
 }
 
+// The raster position of camera sample s in `pixel`: the first dimension pair of the pixel's
+// stratified sequence, or in kernels specialized for independent pixel samples (--pixel-sampler
+// independent, a paper baseline; common/kernel_options.glsl) a point uniform in the pixel and
+// independent of its other samples. Either way the path's other random numbers are the
+// sequence's.
+vec2 pixelSamplePosition(uint pixel, inout Sampler s) {
+    vec2 u = independentPixelSamples() ? samplerGetIndependent2D(s) : samplerGet2D(s);
+    return pixelCorner(pixel) + u;
+}
+
 // The camera sample a request asks for: its sampler, raster position and pixel.
 void requestedSample(SampleRequest r, out Sampler s, out vec2 raster, out uint pixel) {
     s = samplerCreate(r.pixel, r.sampleIndex, push.seed);
     raster = r.raster;
     pixel = r.pixel;
     if (push.source == PT_SOURCE_LIST) {
-        raster = pixelCorner(r.pixel) + samplerGet2D(s);
+        raster = pixelSamplePosition(r.pixel, s);
     } else {
         raster = clamp(raster, vec2(0.0),
                        vec2(sceneInfo.width, sceneInfo.height) * ONE_MINUS_EPSILON);
@@ -58,7 +70,7 @@ void pathsInTurnStart(uint i, uint N, uint item, out uint pixel, out uint slot, 
         pixel = push.pixelOffset + tileIndex;
         record = push.recordOffset + tileIndex * push.samplesPerPixel + k;
         s = samplerCreate(pixel, push.sampleBase + k, push.seed);
-        raster = pixelCorner(pixel) + samplerGet2D(s);
+        raster = pixelSamplePosition(pixel, s);
     } else {
         uint index = i + item * N;
         slot = push.requestOffset + index;
@@ -119,7 +131,7 @@ void main() {
             uint pixel = push.pixelOffset + i;
             for (uint k = 0u; k < push.samplesPerPixel; ++k) {
                 Sampler s = samplerCreate(pixel, push.sampleBase + k, push.seed);
-                vec2 raster = pixelCorner(pixel) + samplerGet2D(s);
+                vec2 raster = pixelSamplePosition(pixel, s);
                 PixelAccumulator acc = accumulatorCreate();
                 accumulatorAdd(acc, estimateRadiance(raster, s, rays,
                                                      push.recordOffset + i * push.samplesPerPixel + k));

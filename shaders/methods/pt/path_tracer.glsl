@@ -1,7 +1,8 @@
 // Unidirectional path tracing with next-event estimation (emitters, punctual lights, the
 // environment), combined with BSDF
-// sampling by multiple importance sampling (Veach 1997 ch. 9, power heuristic), and Russian
-// roulette after rrDepth bounces (pbrt-v4 PathIntegrator). The baseline every method is
+// sampling by multiple importance sampling (Veach 1997 ch. 9, power heuristic; the balance
+// heuristic with KERNEL_OPTION_BALANCE_HEURISTIC, --mis balance), and Russian roulette after
+// rrDepth bounces (pbrt-v4 PathIntegrator). The baseline every method is
 // compared with, and the sampler that seeds ERPT and PMC-ER.
 //
 // Depth semantics (pbrt-v4): maxDepth is the number of bounces; maxDepth = 1 is direct lighting.
@@ -18,6 +19,7 @@
 
 #include "common/camera.glsl"
 #include "common/environment.glsl"
+#include "common/kernel_options.glsl"
 #include "common/lights.glsl"
 #include "common/octahedral.glsl"
 #include "common/punctual_sampling.glsl"
@@ -34,6 +36,17 @@ layout(set = WORK_SET, binding = PT_BINDING_PATH_VERTICES, scalar) writeonly buf
     PathVertex pathVertices[];
 };
 #endif
+
+// The MIS weight of a sample of strategy A against strategy B (Veach 1997 ch. 9): the power
+// heuristic, or the balance heuristic in kernels specialized for it (--mis balance, a paper
+// baseline; common/kernel_options.glsl). With nA and nB: for nA samples of A and nB of B.
+float misWeight(float pdfA, float pdfB) {
+    return balanceHeuristicMis() ? balanceHeuristic(pdfA, pdfB) : powerHeuristic(pdfA, pdfB);
+}
+float misWeight(float nA, float pdfA, float nB, float pdfB) {
+    return balanceHeuristicMis() ? balanceHeuristic(nA, pdfA, nB, pdfB)
+                                 : powerHeuristic(nA, pdfA, nB, pdfB);
+}
 
 // A path under construction: what pathBounce carries from one bounce to the next. The path
 // tracer is pathBegin, then pathBounce until it returns false, then pathEnd; pt.comp and
@@ -147,7 +160,7 @@ vec3 escapedRadiance(vec3 dir, bool prevDelta, float prevPdf) {
     if (!hasEnvironment()) return vec3(0.0);
     vec3 Le = envRadiance(dir);
     if (prevDelta) return Le;
-    return Le * powerHeuristic(prevPdf, envPdf(dir) * sceneInfo.envSelectPmf);
+    return Le * misWeight(prevPdf, envPdf(dir) * sceneInfo.envSelectPmf);
 }
 
 // The light sample of one bounce (next-event estimation): what it adds to the path's radiance
@@ -204,7 +217,7 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
         if (!p.prevDelta) {
             float pdfLight = areaToSolidAngle(emitterAreaPdf(s.triangle), p.prevPosition,
                                               s.position, s.normal);
-            w = powerHeuristic(p.prevPdf, pdfLight);
+            w = misWeight(p.prevPdf, pdfLight);
         }
         vec3 contribution = p.beta * Le * w;
         p.L += contribution;
@@ -224,7 +237,7 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
             vec3 f = shadingEval(sh, ls.wi, pdfBsdf, absCos);
             if (maxComponent(f) > 0.0) {
                 light.ray = ls.ray;
-                float w = ls.delta ? 1.0 : powerHeuristic(ls.pdf, pdfBsdf);
+                float w = ls.delta ? 1.0 : misWeight(ls.pdf, pdfBsdf);
                 light.contribution = p.beta * f * absCos * ls.Le * w / ls.pdf;
                 light.valid = true;
 #ifdef PT_RECORD_PATHS
@@ -352,7 +365,7 @@ void pathEnd(PathState p, vec2 raster, uint recordIndex) {
 
 // Adds to L the light reflected at sh from the lights, by MIS of light and BSDF sampling
 // (Veach 1997 sec. 9.2.4): `lightSamples` light and as many BSDF samples, each weighted by the
-// power heuristic with sample counts; a BSDF sample counts the emitter it hits, or the
+// power (or balance, misWeight) heuristic with sample counts; a BSDF sample counts the emitter it hits, or the
 // environment when it escapes. Direct lighting's estimate at x1 (directLighting), and photon
 // mapping's at its gather points (methods/pm/pm_gather_kernel.glsl).
 void addDirectLighting(ShadingPoint sh, inout Sampler smp, uint lightSamples, inout uint rays,
@@ -369,7 +382,7 @@ void addDirectLighting(ShadingPoint sh, inout Sampler smp, uint lightSamples, in
                 vec3 f = shadingEval(sh, ls.wi, pdfBsdf, absCos);
                 if (maxComponent(f) > 0.0) {
                     rays += 1u;
-                    float w = ls.delta ? 1.0 : powerHeuristic(n, ls.pdf, n, pdfBsdf);
+                    float w = ls.delta ? 1.0 : misWeight(n, ls.pdf, n, pdfBsdf);
                     if (!traceAny(ls.ray.origin, ls.ray.dir, ls.ray.tMax))
                         L += f * absCos * ls.Le * w / (n * ls.pdf);
                 }
@@ -396,7 +409,7 @@ void addDirectLighting(ShadingPoint sh, inout Sampler smp, uint lightSamples, in
             pdfLight = envPdf(wi) * sceneInfo.envSelectPmf;
         }
         if (maxComponent(Lemit) <= 0.0) continue;
-        float w = bs.delta ? 1.0 : powerHeuristic(n, bs.pdf, n, pdfLight);
+        float w = bs.delta ? 1.0 : misWeight(n, bs.pdf, n, pdfLight);
         L += bs.f * abs(bs.wi.z) * Lemit * w / (n * bs.pdf);
     }
 }
