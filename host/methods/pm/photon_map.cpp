@@ -120,14 +120,18 @@ void buildPhotonGrid(const std::vector<gpu::Photon>& photons, float cellSize, ui
 PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options, double sppPerPass)
     : m_session(session), m_options(options) {
     const RenderSettings& settings = session.settings();
-    if (m_options.photonsPerPass == 0)
-        m_options.photonsPerPass = uint32_t(std::clamp(
-            double(session.film().pixelCount()) * sppPerPass, 1024.0, 16e6));
     m_slotsPerPath = std::clamp<uint32_t>(settings.maxDepth, 1, gpu::PM_MAX_SLOTS_PER_PATH);
+    const uint64_t limit = session.context().limits().maxStorageBufferRange;
+    if (m_options.photonsPerPass == 0) {
+        // As many paths as camera samples, at most what one slot buffer holds (lavapipe: 128 MiB,
+        // 262144 paths of 16 slots).
+        const double fit = double(limit / (uint64_t(m_slotsPerPath) * sizeof(gpu::Photon)));
+        m_options.photonsPerPass = uint32_t(std::clamp(
+            double(session.film().pixelCount()) * sppPerPass, 1024.0, std::min(fit, 16e6)));
+    }
     const uint64_t slotBytes = uint64_t(m_options.photonsPerPass) * m_slotsPerPath * sizeof(gpu::Photon);
     const uint64_t cellBytes = uint64_t(nextPowerOfTwo(2 * uint64_t(m_options.photonsPerPass) * m_slotsPerPath)) *
                                sizeof(glm::uvec2);
-    const uint64_t limit = session.context().limits().maxStorageBufferRange;
     if (slotBytes > limit || cellBytes > limit)
         throw Error("--photons " + std::to_string(m_options.photonsPerPass) + ": a pass needs " +
                     std::to_string((std::max(slotBytes, cellBytes) + (1u << 20) - 1) >> 20) +

@@ -32,15 +32,7 @@ layout(push_constant, scalar) uniform PushBlock { PtPush push; };
 #include "methods/pt/path_tracer.glsl"
 #ifdef PM_PMC_HI
 #include "methods/pmc_hi/pmc_hi.glsl"
-
-// PMC-IP feedback through the auxiliary image (pmc_hi_kernel.glsl): per pixel the starting
-// alpha, per request the final alpha of its gather point's estimate.
-layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA_START, scalar) readonly buffer AlphaStartBuffer {
-    float alphaStart[];
-};
-layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA_OUT, scalar) writeonly buffer AlphaOutBuffer {
-    float alphaOut[];
-};
+#include "methods/pmc_hi/pmc_hi_feedback.glsl"
 #endif
 
 // Delta scatterings a final gather ray follows at most (each a traced ray: lavapipe's loop budget).
@@ -96,12 +88,7 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
     const uint feedbackSlots = (hi.flags & PMC_HI_FLAG_FEEDBACK) != 0u ? m : 0u;
     uint pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
     float start[PMC_HI_MAX_COMPONENTS];
-    float startSum = 0.0;
-    for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) start[k] = 0.0;
-    [[dont_unroll]] for (uint k = 0u; k < feedbackSlots; ++k) {
-        start[k] = alphaStart[pixel * PMC_HI_MAX_COMPONENTS + k];
-        startSum += start[k];
-    }
+    float startSum = pmcHiStartingAlpha(pixel, feedbackSlots, start);
     float alpha[PMC_HI_MAX_COMPONENTS];
     bool adapted = false;
 #endif
@@ -155,8 +142,7 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
         L += beta * Lx;
     }
 #ifdef PM_PMC_HI
-    [[dont_unroll]] for (uint k = 0u; k < feedbackSlots; ++k)
-        alphaOut[recordIndex * PMC_HI_MAX_COMPONENTS + k] = adapted ? alpha[k] : 0.0;
+    pmcHiWriteFinalAlpha(recordIndex, feedbackSlots, adapted, alpha);
 #endif
     return L;
 }

@@ -22,12 +22,7 @@ layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA, scalar) buffer AlphaBuffe
     float alphaSums[];
 };
 
-layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA_START, scalar) readonly buffer AlphaStartBuffer {
-    float alphaStart[];
-};
-layout(set = WORK_SET, binding = PMC_HI_BINDING_ALPHA_OUT, scalar) writeonly buffer AlphaOutBuffer {
-    float alphaOut[];
-};
+#include "methods/pmc_hi/pmc_hi_feedback.glsl"
 
 // The feedback and alpha-map loops run over the m slots in use, not all PMC_HI_MAX_COMPONENTS,
 // and stay loops ([[dont_unroll]]): lavapipe runs both sides of every branch under lane masks, so
@@ -45,12 +40,7 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
     ShadingPoint sh = makeShadingPoint(s, -dir);
     uint pixel = uint(raster.y) * sceneInfo.width + uint(raster.x);
     float start[PMC_HI_MAX_COMPONENTS];
-    float startSum = 0.0;
-    for (uint k = 0u; k < PMC_HI_MAX_COMPONENTS; ++k) start[k] = 0.0;
-    [[dont_unroll]] for (uint k = 0u; k < feedbackSlots; ++k) {
-        start[k] = alphaStart[pixel * PMC_HI_MAX_COMPONENTS + k];
-        startSum += start[k];
-    }
+    float startSum = pmcHiStartingAlpha(pixel, feedbackSlots, start);
     float alpha[PMC_HI_MAX_COMPONENTS];
     bool adapted = false;
     vec3 L = vec3(0.0);
@@ -62,9 +52,7 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
     } else if (hasEnvironment()) {
         L = envRadiance(dir);  // seen by the camera: no estimate to weigh it against
     }
-    // A miss, or a point with nothing to adapt, reports all 0.
-    [[dont_unroll]] for (uint k = 0u; k < feedbackSlots; ++k)
-        alphaOut[recordIndex * PMC_HI_MAX_COMPONENTS + k] = adapted ? alpha[k] : 0.0;
+    pmcHiWriteFinalAlpha(recordIndex, feedbackSlots, adapted, alpha);
     if (adapted) {
         uint base = pixel * PMC_HI_ALPHA_STRIDE;
         [[dont_unroll]] for (uint k = 0u; k < recordSlots; ++k) alphaSums[base + k] += alpha[k];
