@@ -85,8 +85,9 @@ TEST_F(PaperBaselines, EveryMethodThatOffersAnOptionTakesIt) {
             ++checked;
         }
     }
-    // pt, direct, pmc-ip, pmc-ip-direct, pmc-pt take both; pmc-hi and pmc-ip-hi the sampler.
-    EXPECT_EQ(checked, 12);
+    // pt, direct, pmc-ip, pmc-ip-direct, pmc-pt take both; pmc-hi, pmc-ip-hi and pm-pmc (PMC-IP
+    // over photon mapping's gather) the sampler.
+    EXPECT_EQ(checked, 13);
 }
 
 }  // namespace

@@ -166,7 +166,7 @@ TEST_F(PhotonMapping, PmcGatherEstimatesThePlainGather) {
     base.options["photons"] = "20000";
     RenderSettings pmc = base;
     pmc.method = "pm-pmc";
-    const auto result = zTestRenders(scene, pmc, 24, 3000, renderMoments(scene, base, 24, 9000));
+    const auto result = zTestRenders(scene, pmc, 16, 3000, renderMoments(scene, base, 16, 9000));
     EXPECT_GE(result.passFraction, 0.9975) << result.describe();
 }
 
