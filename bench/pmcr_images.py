@@ -19,6 +19,30 @@ def read_pfm(path):
     return w, h, data
 
 
+def write_pfm(path, w, h, data):
+    """Writes flat RGB floats as a little-endian colour PFM (rows in the order read_pfm gives)."""
+    with open(path, "wb") as f:
+        f.write(b"PF\n%d %d\n-1.0\n" % (w, h))
+        f.write(struct.pack("<%df" % (w * h * 3), *data))
+
+
+def box_downsample(w, h, data, factor):
+    """(w / factor, h / factor, RGB): each pixel the mean of a factor x factor block. With pmcr's
+    box pixel filter this is exactly the reference of the coarser image, with factor^2 times
+    the samples per pixel."""
+    if w % factor or h % factor:
+        raise ValueError(f"{w}x{h} is not divisible by {factor}")
+    sw, sh = w // factor, h // factor
+    out = [0.0] * (sw * sh * 3)
+    inv = 1.0 / (factor * factor)
+    for y in range(h):
+        for x in range(w):
+            i, o = 3 * (y * w + x), 3 * ((y // factor) * sw + x // factor)
+            for c in range(3):
+                out[o + c] += data[i + c] * inv
+    return sw, sh, out
+
+
 def luminances(data):
     """Rec. 709 luminance of each pixel of flat RGB floats."""
     return [0.2126 * data[i] + 0.7152 * data[i + 1] + 0.0722 * data[i + 2]
