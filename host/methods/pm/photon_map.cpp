@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include <glm/gtc/constants.hpp>
+
 #include "core/error.h"
 #include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
@@ -201,7 +203,7 @@ void PhotonMap::build(uint32_t pass) {
         constexpr double kFootprintPixels = 4.0;
         const gpu::SceneInfo& info = m_session.scene().info();
         const double spread = std::sqrt(m_options.photonsPerDisc * m_surfaceArea /
-                                        (3.14159265358979 * std::max<double>(1.0, double(m_photons.size()))));
+                                        (glm::pi<double>() * std::max<double>(1.0, double(m_photons.size()))));
         const double distance = glm::length(glm::dvec3(info.sceneCenter) - glm::dvec3(info.cameraPosition));
         const double footprint = kFootprintPixels * distance * 2.0 * info.tanHalfFovY / double(info.height);
         m_r0 = m_options.radius > 0.0 ? m_options.radius : std::min(spread, footprint > 0.0 ? footprint : spread);

@@ -75,8 +75,6 @@ public:
     void preparePass(uint32_t pass, vk::DescriptorSet& work);
 
     double radius() const { return m_info.radius; }
-    uint32_t photonCount() const { return m_info.photonCount; }
-    uint32_t pathsPerPass() const { return m_options.photonsPerPass; }
     // The last pass's photons in path order (as shot, before the grid sort).
     const std::vector<gpu::Photon>& photons() const { return m_photons; }
     // Passes shot, photons stored, host and device seconds, lookup statistics.
