@@ -9,6 +9,7 @@
 #include "cli/compare_command.h"
 #include "cli/merge_command.h"
 #include "cli/render_command.h"
+#include "core/communicator.h"
 #include "core/error.h"
 #include "vk/context.h"
 
@@ -90,11 +91,10 @@ int run(int argc, char** argv) {
             return sub.run(args);
         }
         throw Error(command + ": unknown command (see pmcr --help)");
-    } catch (const Error& e) {
-        std::fprintf(stderr, "pmcr: error: %s\n", e.what());
-        return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "pmcr: error: %s\n", e.what());
+        // Under mpirun every rank fails alike on bad input: rank 0 alone says so (a rank's own
+        // failure is named by rank, render/distributed.h).
+        if (worldCommunicator().rank() == 0) std::fprintf(stderr, "pmcr: error: %s\n", e.what());
         return 1;
     }
 }

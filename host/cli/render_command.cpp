@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/communicator.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/log.h"
+#include "render/distributed.h"
 #include "render/methods.h"
 #include "render/renderer.h"
 #include "scene/gltf_loader.h"
@@ -67,22 +69,56 @@ RenderCommand parseRenderCommand(Args& args) {
 }
 
 int runRender(const RenderCommand& command) {
-    RenderSettings settings = command.settings;
-    log::setQuiet(settings.quiet);
-    // Check the outputs before spending any time: a bad path fails at once.
-    OutputPaths paths = resolveOutputPaths(command.scene, command.output, command.png,
-                                           command.noPng, command.exposure);
-    Scene scene = loadScene(command.scene, command.environment);
-    resolveImageSize(scene, settings);
+    // Under mpirun, every rank runs this with its share of the render; rank 0 alone reports,
+    // shows progress and writes (render/distributed.h). Without MPI: one rank, the whole render.
+    Communicator& comm = worldCommunicator();
+    RenderSettings requested = command.settings;
+    requested.quiet = requested.quiet || comm.rank() > 0;
+    log::setQuiet(requested.quiet);
+    RenderSettings settings;
+    OutputPaths paths;
+    Scene scene;
+    // Bad input fails before anything renders, alike on every rank. Check the outputs first: a
+    // bad path fails at once.
+    onEveryRank(comm, [&] {
+        paths = resolveOutputPaths(command.scene, command.output, command.png, command.noPng,
+                                   command.exposure);
+        scene = loadScene(command.scene, command.environment);
+        resolveImageSize(scene, requested);
+        settings = rankSettings(requested, findMethod(requested.method)->create(requested)->defaultSpp(), comm);
+    });
 
-    vk::ContextOptions options;
-    options.validate = settings.validate;
-    options.device = settings.device;
-    vk::Context context(options);
-    log::info("device: " + context.deviceName() + " (" + context.deviceTypeName() + ")");
+    std::unique_ptr<vk::Context> context;
+    onEveryRank(comm, [&] {
+        const std::string choice = chooseRankDevice(settings, comm);
+        vk::ContextOptions options;
+        options.validate = settings.validate;
+        options.device = settings.device;
+        context = std::make_unique<vk::Context>(options);
+        if (!choice.empty()) log::info("rank 0: " + choice);
+    });
+    log::info("device: " + context->deviceName() + " (" + context->deviceTypeName() + ")" +
+              (comm.distributed() ? ", " + std::to_string(comm.size()) + " ranks" : ""));
 
     installInterruptHandler();
-    RenderResult result = renderScene(context, scene, settings);
+    RenderResult result;
+    try {
+        result = renderScene(*context, scene, settings, comm);
+    } catch (const std::exception& e) {
+        // The other ranks may be waiting for this one in a collective: end the job.
+        if (!comm.distributed()) throw;
+        std::fprintf(stderr, "pmcr: error: rank %d: %s\n", comm.rank(), e.what());
+        std::fflush(stderr);
+        comm.abortJob(1);
+    }
+    result = reduceRenderResults(std::move(result), requested, comm);
+    if (comm.rank() > 0) {
+        const size_t messages = context->validationMessages().size();
+        if (messages == 0) return result.interrupted ? 130 : 0;
+        std::fprintf(stderr, "pmcr: error: rank %d: validation layer reported %zu message(s)\n",
+                     comm.rank(), messages);
+        return 1;
+    }
     auto written = writeRenderOutputs(result, paths);
 
     const auto& st = result.stats;
@@ -93,8 +129,9 @@ int runRender(const RenderCommand& command) {
     }
     if (command.stats) {
         std::printf("method            %s\n", settings.method.c_str());
-        std::printf("device            %s\n", context.deviceName().c_str());
+        std::printf("device            %s\n", context->deviceName().c_str());
         std::printf("resolution        %dx%d\n", settings.width, settings.height);
+        if (comm.distributed()) std::printf("ranks             %d (MPI)\n", comm.size());
         std::printf("samples/pixel     %.4g\n", result.output.samplesPerPixel);
         std::printf("render time       %.3f s\n", result.seconds);
         std::printf("BVH build         %.3f s (%zu nodes)\n", st["bvh_build_seconds"].get<double>(),
@@ -119,7 +156,7 @@ int runRender(const RenderCommand& command) {
         }
         for (const auto& path : written) std::printf("wrote             %s\n", path.string().c_str());
     }
-    auto messages = context.validationMessages();
+    auto messages = context->validationMessages();
     if (!messages.empty())
         throw Error("validation layer reported " + std::to_string(messages.size()) + " message(s)");
     return result.interrupted ? 130 : 0;

@@ -145,16 +145,7 @@ MergedRender mergeRenders(const std::vector<RenderPiece>& pieces) {
         rays += count(p, "rays");
         nanDropped += count(p, "nan_samples_dropped");
         interrupted = interrupted || p.stats.value("interrupted", false);
-        if (auto k = p.stats.find("gpu_kernels"); k != p.stats.end() && k->is_object()) {
-            for (const auto& [name, total] : k->items()) {
-                auto& t = kernels[name];
-                if (!t.is_object())
-                    t = {{"milliseconds", 0.0}, {"dispatches", uint64_t(0)}};
-                t["milliseconds"] = t.value("milliseconds", 0.0) + total.value("milliseconds", 0.0);
-                t["dispatches"] =
-                    t.value("dispatches", uint64_t(0)) + total.value("dispatches", uint64_t(0));
-            }
-        }
+        addKernelTotals(kernels, p.stats.value("gpu_kernels", nlohmann::json::object()));
         from.push_back({{"image", p.path.string()},
                         {"samples", count(p, "samples")},
                         {"seeds", renderSeeds(p.stats)},

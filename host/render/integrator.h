@@ -16,6 +16,8 @@ public:
     // the image so far exactly as the final image is resolved (for `pmcr bench`'s convergence
     // plots; it does nothing unless snapshots were asked for).
     virtual RenderOutput render(RenderSession& session) = 0;
+    // Samples per pixel when neither --spp nor --time is given (the method's budget unit).
+    virtual uint32_t defaultSpp() const = 0;
 };
 
 }  // namespace pmcr

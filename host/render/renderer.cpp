@@ -38,11 +38,12 @@ void resolveImageSize(const Scene& scene, RenderSettings& s) {
                     " exceeds " + std::to_string(maxSize) + " pixels per side");
 }
 
-RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings) {
+RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings,
+                         Communicator& comm) {
     validateMethodOptions(settings);
     const MethodInfo* method = findMethod(settings.method);
     auto integrator = method->create(settings);
-    RenderSession session(context, scene, settings, settings.width, settings.height);
+    RenderSession session(context, scene, settings, settings.width, settings.height, comm);
     auto start = std::chrono::steady_clock::now();
     RenderResult result;
     result.output = integrator->render(session);

@@ -27,8 +27,10 @@ struct RenderResult {
 // the aspect ratio.
 void resolveImageSize(const Scene& scene, RenderSettings& settings);
 
-// Renders `scene` with settings.method on `context` (settings must have a resolved size).
-RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings);
+// Renders `scene` with settings.method on `context` (settings must have a resolved size): this
+// process's share of the render when `comm` has several ranks (render/distributed.h).
+RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderSettings& settings,
+                         Communicator& comm = localCommunicator());
 
 struct OutputPaths {
     std::filesystem::path hdr;                  // .exr or .pfm

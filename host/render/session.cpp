@@ -12,8 +12,9 @@
 namespace pmcr {
 
 RenderSession::RenderSession(vk::Context& context, const Scene& scene,
-                             const RenderSettings& settings, int width, int height)
-    : m_context(context), m_settings(settings), m_width(width), m_height(height) {
+                             const RenderSettings& settings, int width, int height,
+                             Communicator& comm)
+    : m_context(context), m_comm(comm), m_settings(settings), m_width(width), m_height(height) {
     m_scene = std::make_unique<GpuScene>(context, context.layout(), scene, settings.camera, width, height);
     m_timer = std::make_unique<vk::GpuTimer>(context);
     m_film = std::make_unique<Film>(context, width, height);

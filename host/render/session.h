@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/communicator.h"
 #include "core/progress.h"
 #include "image/image.h"
 #include "render/film.h"
@@ -40,8 +41,10 @@ struct Snapshot {
 
 class RenderSession {
 public:
+    // `comm`: the processes rendering this image together (core/communicator.h); the session
+    // renders this process's share (render/distributed.h gives each rank its settings).
     RenderSession(vk::Context& context, const Scene& scene, const RenderSettings& settings,
-                  int width, int height);
+                  int width, int height, Communicator& comm = localCommunicator());
 
     vk::Context& context() { return m_context; }
     const vk::PipelineLayout& layout() const { return m_context.layout(); }
@@ -52,6 +55,7 @@ public:
     const vk::Kernel& kernel(const std::string& name, uint32_t kernelOptions = 0);
     const GpuScene& scene() const { return *m_scene; }
     const RenderSettings& settings() const { return m_settings; }
+    Communicator& comm() { return m_comm; }
     vk::GpuTimer& timer() { return *m_timer; }
     Film& film() { return *m_film; }
     // A small buffer for work-set bindings a kernel declares but the current mode never reads
@@ -76,6 +80,9 @@ public:
     // Interrupted by the user or out of time: stop at the next batch boundary.
     bool shouldStop() const;
     bool interrupted() const;
+    // shouldStop() on any rank (core/communicator.h), for methods whose ranks adapt together
+    // and so must end their iterations together; a collective: every rank calls it in turn.
+    bool shouldStopTogether() { return m_comm.anyTrue(shouldStop()); }
 
     // Seconds a dispatch should take: short on a CPU device so the machine stays responsive,
     // and well under any GPU watchdog.
@@ -94,6 +101,7 @@ public:
 
 private:
     vk::Context& m_context;
+    Communicator& m_comm;
     RenderSettings m_settings;
     int m_width;
     int m_height;

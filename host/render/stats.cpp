@@ -47,6 +47,16 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
     return j;
 }
 
+void addKernelTotals(nlohmann::json& totals, const nlohmann::json& kernels) {
+    if (!kernels.is_object()) return;
+    for (const auto& [name, total] : kernels.items()) {
+        auto& t = totals[name];
+        if (!t.is_object()) t = {{"milliseconds", 0.0}, {"dispatches", uint64_t(0)}};
+        t["milliseconds"] = t.value("milliseconds", 0.0) + total.value("milliseconds", 0.0);
+        t["dispatches"] = t.value("dispatches", uint64_t(0)) + total.value("dispatches", uint64_t(0));
+    }
+}
+
 std::filesystem::path statsPathFor(const std::filesystem::path& image) {
     std::filesystem::path p = image;
     return p.replace_extension(".json");

@@ -16,6 +16,10 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
                            const std::filesystem::path& scenePath, double renderSeconds,
                            double samplingSeconds);
 
+// Adds a stats JSON's "gpu_kernels" ({name: {milliseconds, dispatches}}) into `totals`
+// (`pmcr merge` and the ranks of an MPI render).
+void addKernelTotals(nlohmann::json& totals, const nlohmann::json& kernels);
+
 // `image.exr` -> `image.json`.
 std::filesystem::path statsPathFor(const std::filesystem::path& image);
 

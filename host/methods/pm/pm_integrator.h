@@ -21,6 +21,7 @@ public:
     RenderOutput render(RenderSession& session) override;
 
     static constexpr uint32_t kDefaultSpp = 16;
+    uint32_t defaultSpp() const override { return kDefaultSpp; }
 
 private:
     PhotonMapOptions m_photons;

@@ -44,6 +44,7 @@ public:
     RenderOutput render(RenderSession& session) override;
 
     static constexpr uint32_t kDefaultSpp = 64;
+    uint32_t defaultSpp() const override { return kDefaultSpp; }
 
 private:
     Mode m_mode;
