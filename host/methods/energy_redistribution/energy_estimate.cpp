@@ -38,7 +38,10 @@ double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
     double sum = 0.0;
     for (const auto& p : film.download())
         if (p.sampleCount > 0) sum += double(luminance(p.sum / float(p.sampleCount)));
-    return sum / double(pixels);
+    // With several ranks, the mean of their pre-passes (each its own seed): every rank then
+    // deposits the same e_d (core/communicator.h).
+    Communicator& comm = session.comm();
+    return comm.allReduceSum(sum / double(pixels)) / double(comm.size());
 }
 
 }  // namespace pmcr

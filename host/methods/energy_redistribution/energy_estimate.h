@@ -10,7 +10,8 @@
 namespace pmcr {
 
 // Renders `spp` samples per pixel of path tracing (seeded apart from the main render) into a
-// scratch film and returns the mean over pixels of the per-pixel luminance estimate.
+// scratch film and returns the mean over pixels of the per-pixel luminance estimate; with
+// several ranks (session.comm()), the mean of every rank's pre-pass. A collective.
 double estimateMeanLuminance(RenderSession& session, uint32_t spp);
 
 }  // namespace pmcr

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -89,6 +90,12 @@ public:
 
     uint32_t iteration() const { return m_iteration; }
 
+    // Rendering with several processes (core/communicator.h): `sum` adds a vector over them
+    // in place, and allocate() then computes the weights from every process's pilot samples,
+    // so that all of them draw from the same alpha (each keeps its own samples and image).
+    // The weights still depend on no sample of their own pixel, on any process.
+    void setPilotReduction(std::function<void(std::vector<double>&)> sum) { m_sumPilots = std::move(sum); }
+
     // The sample counts of the next iteration: uniform `initialSpp` for the first, then
     // adaptive, `spp` samples per pixel on average (less than samplesPerIteration for a last
     // iteration that ends a budget; the pilots are at most floor(spp)); `u` in [0,1) drives
@@ -111,7 +118,8 @@ public:
     Image varianceImage() const;  // estimated variance of each pixel estimate (luminance): s^2 / n
 
 private:
-    // v_ij = s^2_ij / tvi(L_ij) of the pilot samples (0 with fewer than two).
+    // v_ij = s^2_ij / tvi(L_ij) of the pilot samples (0 with fewer than two), over every
+    // process's with a pilot reduction.
     std::vector<double> pilotPerceptualVariance() const;
 
     int m_width;
@@ -132,6 +140,7 @@ private:
     std::vector<double> m_pilotLumSum;
     std::vector<double> m_pilotLumSqSum;
     std::vector<uint32_t> m_pilotCount;
+    std::function<void(std::vector<double>&)> m_sumPilots;
 };
 
 }  // namespace pmcr

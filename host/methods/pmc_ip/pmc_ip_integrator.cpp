@@ -100,6 +100,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
     ImagePlaneSampler sampler(film.width(), film.height(), m_options);
+    // Several ranks adapt as one population: the pilot statistics are summed over them before
+    // every allocation, PMC-HI's feedback sums after every iteration (core/communicator.h).
+    Communicator& comm = session.comm();
+    if (comm.distributed()) sampler.setPilotReduction([&comm](std::vector<double>& v) { comm.allReduceSum(v); });
 
     // Adaptive iterations after the first: asked for, or what --spp allows, or unbounded
     // under --time alone.
@@ -186,14 +190,18 @@ RenderOutput PmcIp::render(RenderSession& session) {
 
     session.startClock();
     uint64_t iteration = 0;
-    for (; iteration < totalIterations && !session.shouldStop(); ++iteration) {
+    for (;; ++iteration) {
+        // The ranks run each iteration together: on while any has budget left (a rank whose
+        // budget is spent takes no samples), all stop when any must (time, Ctrl-C).
+        if (session.shouldStopTogether() || !comm.anyTrue(iteration < totalIterations)) break;
         if (photonMap) photonMap->preparePass(uint32_t(iteration), work);
         const auto adaptStart = std::chrono::steady_clock::now();
         // The last iteration of a --spp budget takes only what is left of it.
+        // (None once it is spent: a rank whose share ends sooner still joins the iterations.)
         const double spp = iteration == 0 ? double(m_options.initialSpp)
-                                          : std::min(m_options.samplesPerIteration,
-                                                     budgetSpp - double(m_options.initialSpp) -
-                                                         double(iteration - 1) * m_options.samplesPerIteration);
+                                          : std::clamp(budgetSpp - double(m_options.initialSpp) -
+                                                           double(iteration - 1) * m_options.samplesPerIteration,
+                                                       0.0, m_options.samplesPerIteration);
         const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble(), spp);
         adaptSeconds += since(adaptStart);
         // Walk the pixels in Morton order (coherent rays), each pixel's samples the next n
@@ -277,6 +285,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         }
         sampler.finishIteration();
         if (pmcHi) {
+            if (comm.distributed()) comm.allReduceSum(iterationSums);
             // Sec. 6.1: the auxiliary image takes each sampled pixel's mean final weights and
             // seeds the next iteration (pixels without an adapted estimate keep theirs).
             const auto feedbackStart = std::chrono::steady_clock::now();

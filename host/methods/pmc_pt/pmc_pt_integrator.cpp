@@ -22,6 +22,25 @@ constexpr uint32_t kSlots = 8;              // dispatches per batch, each with i
 constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
 constexpr uint64_t kMaxStepDraws = 1u << 22;  // eye paths in a grown step at most
 
+// With several ranks (core/communicator.h): every rank's luminance statistics summed, and the
+// mean of their pixel estimates, so that they all resample by the same importance beta'.
+void poolImportanceStatistics(Communicator& comm, std::vector<RunningStats>& stats,
+                              std::vector<double>& luminance) {
+    const size_t pixels = stats.size();
+    std::vector<double> v(4 * pixels);
+    for (size_t p = 0; p < pixels; ++p) {
+        v[4 * p + 0] = double(stats[p].count);
+        v[4 * p + 1] = stats[p].sum;
+        v[4 * p + 2] = stats[p].sumSq;
+        v[4 * p + 3] = luminance[p];
+    }
+    comm.allReduceSum(v);
+    for (size_t p = 0; p < pixels; ++p) {
+        stats[p] = {uint32_t(v[4 * p]), v[4 * p + 1], v[4 * p + 2]};
+        luminance[p] = v[4 * p + 3] / double(comm.size());
+    }
+}
+
 }  // namespace
 
 PmcPtOptions PmcPtOptions::fromSettings(const RenderSettings& s) {
@@ -157,7 +176,8 @@ RenderOutput PmcPt::render(RenderSession& session) {
             session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, double(kSlots)));
         size_t done = 0;
         while (done < requests.size()) {
-            if (session.interrupted()) return false;
+            // (With several ranks a step always ends: they decide together before each.)
+            if (!session.comm().distributed() && session.interrupted()) return false;
             batch.fill(film.counters(), 0);
             batch.bind(session.scene().descriptorSet());
             struct Pending {
@@ -252,57 +272,75 @@ RenderOutput PmcPt::render(RenderSession& session) {
         return m;
     };
     session.startClock();
-    while (units < unitLimit && !session.interrupted()) {
-        const uint64_t stepUnits = nextStepUnits();
-        if (stepUnits == 0) break;
-        // The step's draws: every member's m TR mutations (pixels), then m poolSpp pool draws in
-        // every pixel. How many land in each pixel depends on the past and the host's random
-        // numbers only, never on this step's radiance values.
-        auto hostStart = std::chrono::steady_clock::now();
-        const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
-        draws.clear();
-        population.drawMutations(rng, draws, ps.mutations * uint32_t(stepUnits));
-        std::fill(count.begin(), count.end(), stepPoolSpp);
-        for (const PositionDraw& d : draws) ++count[d.pixel];
-        // Pixel p's samples are points 0 .. count_p - 1 of its sequence, scrambled afresh for the
-        // step (the step's seed): the pool draws first, then the members' in draw order.
-        uint32_t total = 0;
-        for (uint32_t p : mortonPixels) {
-            first[p] = total;
-            total += count[p];
+    Communicator& comm = session.comm();
+    for (;;) {
+        uint64_t stepUnits = units < unitLimit && !session.interrupted() ? nextStepUnits() : 0;
+        if (comm.distributed()) {
+            // The ranks step together, since their importance statistics are pooled at every
+            // adaptation: rank 0's step size (it has the largest share of --spp, and its clock
+            // rules under --time), cut to what is left of each rank's own share (a rank whose
+            // share is spent joins with an empty step); all stop when rank 0 is done or any
+            // rank is interrupted.
+            std::vector<double> agreed{comm.rank() == 0 ? double(stepUnits) : 0.0,
+                                       session.interrupted() ? 1.0 : 0.0};
+            comm.allReduceSum(agreed);
+            if (agreed[0] == 0.0 || agreed[1] > 0.0) break;
+            stepUnits = std::min<uint64_t>(uint64_t(agreed[0]), unitLimit - units);
+        } else if (stepUnits == 0) {
+            break;
         }
-        requests.resize(total);
-        drawOf.assign(total, PositionDraw::kPool);
-        for (uint32_t p = 0; p < pixels; ++p) next[p] = first[p] + stepPoolSpp;
-        for (uint32_t j = 0; j < draws.size(); ++j) drawOf[next[draws[j].pixel]++] = j;
-        for (uint32_t p : mortonPixels)
-            for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
-        push.seed = stepSeeds.nextUint();
-        hostSeconds += since(hostStart);
-        if (!trace(requests, results)) break;  // interrupted: an unfinished step is dropped whole
-        hostStart = std::chrono::steady_clock::now();
-
-        // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
-        // in p (see the header), the plain sums, the tagged luminances and the strategy counts.
-        for (uint32_t p = 0; p < pixels; ++p) {
-            glm::dvec3 sum(0.0);
-            for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
-                const glm::vec4 r = results[i];
-                sum += glm::dvec3(r.x, r.y, r.z);
-                pixelLuminance[p].add(r.w);
-                const uint32_t j = drawOf[i];
-                if (j != PositionDraw::kPool) {
-                    population.record(draws[j], r.w);
-                    ++strategy[p][draws[j].component];
-                }
+        if (stepUnits > 0) {
+            // The step's draws: every member's m TR mutations (pixels), then m poolSpp pool draws in
+            // every pixel. How many land in each pixel depends on the past and the host's random
+            // numbers only, never on this step's radiance values.
+            auto hostStart = std::chrono::steady_clock::now();
+            const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
+            draws.clear();
+            population.drawMutations(rng, draws, ps.mutations * uint32_t(stepUnits));
+            std::fill(count.begin(), count.end(), stepPoolSpp);
+            for (const PositionDraw& d : draws) ++count[d.pixel];
+            // Pixel p's samples are points 0 .. count_p - 1 of its sequence, scrambled afresh for the
+            // step (the step's seed): the pool draws first, then the members' in draw order.
+            uint32_t total = 0;
+            for (uint32_t p : mortonPixels) {
+                first[p] = total;
+                total += count[p];
             }
-            stepSum[p] += double(stepUnits) * sum / double(count[p]);
-            plainSum[p] += sum;
+            requests.resize(total);
+            drawOf.assign(total, PositionDraw::kPool);
+            for (uint32_t p = 0; p < pixels; ++p) next[p] = first[p] + stepPoolSpp;
+            for (uint32_t j = 0; j < draws.size(); ++j) drawOf[next[draws[j].pixel]++] = j;
+            for (uint32_t p : mortonPixels)
+                for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
+            push.seed = stepSeeds.nextUint();
+            hostSeconds += since(hostStart);
+            if (!trace(requests, results)) break;  // interrupted: an unfinished step is dropped whole
+            hostStart = std::chrono::steady_clock::now();
+
+            // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
+            // in p (see the header), the plain sums, the tagged luminances and the strategy counts.
+            for (uint32_t p = 0; p < pixels; ++p) {
+                glm::dvec3 sum(0.0);
+                for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
+                    const glm::vec4 r = results[i];
+                    sum += glm::dvec3(r.x, r.y, r.z);
+                    pixelLuminance[p].add(r.w);
+                    const uint32_t j = drawOf[i];
+                    if (j != PositionDraw::kPool) {
+                        population.record(draws[j], r.w);
+                        ++strategy[p][draws[j].component];
+                    }
+                }
+                stepSum[p] += double(stepUnits) * sum / double(count[p]);
+                plainSum[p] += sum;
+            }
+            samples += total;
+            hostSeconds += since(hostStart);
         }
+        const auto hostStart = std::chrono::steady_clock::now();
         // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
         const std::vector<glm::dvec2> poolPositions =
             pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
-        samples += total;
         ++steps;
         units += stepUnits;
         population.endStep();
@@ -315,7 +353,13 @@ RenderOutput PmcPt::render(RenderSession& session) {
                 const glm::dvec3 v = estimate(p);
                 luminance[p] = 0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z;
             }
-            importance.update(pixelLuminance, luminance);
+            if (comm.distributed()) {
+                std::vector<RunningStats> pooled = pixelLuminance;
+                poolImportanceStatistics(comm, pooled, luminance);
+                importance.update(pooled, luminance);
+            } else {
+                importance.update(pixelLuminance, luminance);
+            }
             ++adaptations;
         }
         const ResampleCounts c = population.resample(rng, poolPositions, importance);
