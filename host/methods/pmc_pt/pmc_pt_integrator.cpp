@@ -176,8 +176,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, double(kSlots)));
         size_t done = 0;
         while (done < requests.size()) {
-            // (With several ranks a step always ends: they decide together before each.)
-            if (!session.comm().distributed() && session.interrupted()) return false;
+            if (session.interrupted()) return false;
             batch.fill(film.counters(), 0);
             batch.bind(session.scene().descriptorSet());
             struct Pending {
@@ -314,25 +313,34 @@ RenderOutput PmcPt::render(RenderSession& session) {
                 for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
             push.seed = stepSeeds.nextUint();
             hostSeconds += since(hostStart);
-            if (!trace(requests, results)) break;  // interrupted: an unfinished step is dropped whole
+            // Interrupted: an unfinished step is dropped whole. With several ranks this one still
+            // joins the step's collectives; the loop then stops on every rank.
+            const bool traced = trace(requests, results);
+            if (!traced && !comm.distributed()) break;
             hostStart = std::chrono::steady_clock::now();
+            if (!traced) {
+                stepUnits = 0;  // no weight and no samples
+                total = 0;
+            }
 
             // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
             // in p (see the header), the plain sums, the tagged luminances and the strategy counts.
-            for (uint32_t p = 0; p < pixels; ++p) {
-                glm::dvec3 sum(0.0);
-                for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
-                    const glm::vec4 r = results[i];
-                    sum += glm::dvec3(r.x, r.y, r.z);
-                    pixelLuminance[p].add(r.w);
-                    const uint32_t j = drawOf[i];
-                    if (j != PositionDraw::kPool) {
-                        population.record(draws[j], r.w);
-                        ++strategy[p][draws[j].component];
+            if (traced) {
+                for (uint32_t p = 0; p < pixels; ++p) {
+                    glm::dvec3 sum(0.0);
+                    for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
+                        const glm::vec4 r = results[i];
+                        sum += glm::dvec3(r.x, r.y, r.z);
+                        pixelLuminance[p].add(r.w);
+                        const uint32_t j = drawOf[i];
+                        if (j != PositionDraw::kPool) {
+                            population.record(draws[j], r.w);
+                            ++strategy[p][draws[j].component];
+                        }
                     }
+                    stepSum[p] += double(stepUnits) * sum / double(count[p]);
+                    plainSum[p] += sum;
                 }
-                stepSum[p] += double(stepUnits) * sum / double(count[p]);
-                plainSum[p] += sum;
             }
             samples += total;
             hostSeconds += since(hostStart);
