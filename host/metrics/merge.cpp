@@ -20,15 +20,9 @@ std::string jsonText(const nlohmann::json& j) {
     return j.is_null() ? "none" : j.dump();
 }
 
-double number(const RenderPiece& piece, const char* key) {
-    const auto it = piece.stats.find(key);
-    return it != piece.stats.end() && it->is_number() ? it->get<double>() : 0.0;
-}
+double number(const RenderPiece& piece, const char* key) { return statsNumber(piece.stats, key); }
 
-uint64_t count(const RenderPiece& piece, const char* key) {
-    const auto it = piece.stats.find(key);
-    return it != piece.stats.end() && it->is_number_unsigned() ? it->get<uint64_t>() : 0;
-}
+uint64_t count(const RenderPiece& piece, const char* key) { return statsCount(piece.stats, key); }
 
 std::string sceneName(const nlohmann::json& stats) {
     const auto it = stats.find("scene");
@@ -131,21 +125,17 @@ MergedRender mergeRenders(const std::vector<RenderPiece>& pieces) {
 
     nlohmann::json& s = merged.stats;
     s = first.stats;
-    double renderSeconds = 0.0, samplingSeconds = 0.0, gpuMilliseconds = 0.0;
-    uint64_t rays = 0, nanDropped = 0;
+    double renderSeconds = 0.0, samplingSeconds = 0.0;
+    StatsTotals totals;
     bool interrupted = false, allTimed = true, oneDevice = true;
-    nlohmann::json kernels = nlohmann::json::object();
     nlohmann::json from = nlohmann::json::array();
     for (const RenderPiece& p : pieces) {
         renderSeconds += number(p, "render_seconds");
         samplingSeconds += number(p, "sampling_seconds");
         allTimed = allTimed && p.stats.contains("sampling_seconds");
         oneDevice = oneDevice && p.stats.value("device", "") == first.stats.value("device", "");
-        gpuMilliseconds += number(p, "gpu_milliseconds");
-        rays += count(p, "rays");
-        nanDropped += count(p, "nan_samples_dropped");
+        totals.add(p.stats);
         interrupted = interrupted || p.stats.value("interrupted", false);
-        addKernelTotals(kernels, p.stats.value("gpu_kernels", nlohmann::json::object()));
         from.push_back({{"image", p.path.string()},
                         {"samples", count(p, "samples")},
                         {"seeds", renderSeeds(p.stats)},
@@ -168,11 +158,7 @@ MergedRender mergeRenders(const std::vector<RenderPiece>& pieces) {
         s.erase("sampling_seconds");
     if (!oneDevice)
         s["device"] = "several (see merged_from)";
-    s["gpu_milliseconds"] = gpuMilliseconds;
-    s["gpu_kernels"] = kernels;
-    s["rays"] = rays;
-    s["rays_per_second"] = renderSeconds > 0.0 ? double(rays) / renderSeconds : 0.0;
-    s["nan_samples_dropped"] = nanDropped;
+    totals.writeTo(s, renderSeconds);
     s["interrupted"] = interrupted;
     s["merged_from"] = from;
     return merged;

@@ -42,16 +42,6 @@ size_t unpack(const std::vector<double>& in, size_t at, Image& image) {
     return at;
 }
 
-double number(const nlohmann::json& j, const char* key) {
-    const auto it = j.find(key);
-    return it != j.end() && it->is_number() ? it->get<double>() : 0.0;
-}
-
-uint64_t count(const nlohmann::json& j, const char* key) {
-    const auto it = j.find(key);
-    return it != j.end() && it->is_number_unsigned() ? it->get<uint64_t>() : 0;
-}
-
 }  // namespace
 
 uint32_t rankSeed(uint32_t seed, int rank) { return seed ^ fmix32(uint32_t(rank)); }
@@ -135,29 +125,25 @@ RenderResult reduceRenderResults(RenderResult mine, const RenderSettings& reques
     const std::vector<std::string> texts = comm.gatherToRoot(mine.stats.dump());
     if (comm.rank() != 0) return mine;
     nlohmann::json& s = mine.stats;
-    uint64_t rays = 0, nanDropped = 0;
-    double renderSeconds = 0.0, samplingSeconds = 0.0, gpuMilliseconds = 0.0;
+    StatsTotals totals;
+    double renderSeconds = 0.0, samplingSeconds = 0.0;
     bool oneDevice = true;
-    nlohmann::json kernels = nlohmann::json::object();
     nlohmann::json perRank = nlohmann::json::array();
     for (size_t r = 0; r < texts.size(); ++r) {
         const nlohmann::json j = nlohmann::json::parse(texts[r]);
-        rays += count(j, "rays");
-        nanDropped += count(j, "nan_samples_dropped");
-        gpuMilliseconds += number(j, "gpu_milliseconds");
+        totals.add(j);
         // The ranks run side by side: the render takes as long as the slowest.
-        renderSeconds = std::max(renderSeconds, number(j, "render_seconds"));
-        samplingSeconds = std::max(samplingSeconds, number(j, "sampling_seconds"));
+        renderSeconds = std::max(renderSeconds, statsNumber(j, "render_seconds"));
+        samplingSeconds = std::max(samplingSeconds, statsNumber(j, "sampling_seconds"));
         oneDevice = oneDevice && j.value("device", "") == s.value("device", "");
-        addKernelTotals(kernels, j.value("gpu_kernels", nlohmann::json::object()));
         perRank.push_back({{"rank", r},
                            {"device", j.value("device", "")},
                            {"seed", j.value("seed", 0u)},
-                           {"samples", count(j, "samples")},
-                           {"spp", number(j, "spp")},
-                           {"render_seconds", number(j, "render_seconds")},
-                           {"sampling_seconds", number(j, "sampling_seconds")},
-                           {"rays", count(j, "rays")},
+                           {"samples", statsCount(j, "samples")},
+                           {"spp", statsNumber(j, "spp")},
+                           {"render_seconds", statsNumber(j, "render_seconds")},
+                           {"sampling_seconds", statsNumber(j, "sampling_seconds")},
+                           {"rays", statsCount(j, "rays")},
                            {"interrupted", j.value("interrupted", false)},
                            {"method_stats", j.value("method_stats", nlohmann::json::object())}});
     }
@@ -169,11 +155,7 @@ RenderResult reduceRenderResults(RenderResult mine, const RenderSettings& reques
     s["spp"] = out.samplesPerPixel;
     s["render_seconds"] = renderSeconds;
     s["sampling_seconds"] = samplingSeconds;
-    s["rays"] = rays;
-    s["rays_per_second"] = renderSeconds > 0.0 ? double(rays) / renderSeconds : 0.0;
-    s["nan_samples_dropped"] = nanDropped;
-    s["gpu_milliseconds"] = gpuMilliseconds;
-    s["gpu_kernels"] = kernels;
+    totals.writeTo(s, renderSeconds);
     s["interrupted"] = mine.interrupted;
     if (!oneDevice) s["device"] = "several (see rank_stats)";
     mine.seconds = renderSeconds;

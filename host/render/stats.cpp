@@ -47,14 +47,36 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
     return j;
 }
 
-void addKernelTotals(nlohmann::json& totals, const nlohmann::json& kernels) {
-    if (!kernels.is_object()) return;
-    for (const auto& [name, total] : kernels.items()) {
-        auto& t = totals[name];
+double statsNumber(const nlohmann::json& stats, const char* key) {
+    const auto it = stats.find(key);
+    return it != stats.end() && it->is_number() ? it->get<double>() : 0.0;
+}
+
+uint64_t statsCount(const nlohmann::json& stats, const char* key) {
+    const auto it = stats.find(key);
+    return it != stats.end() && it->is_number_unsigned() ? it->get<uint64_t>() : 0;
+}
+
+void StatsTotals::add(const nlohmann::json& stats) {
+    rays += statsCount(stats, "rays");
+    nanDropped += statsCount(stats, "nan_samples_dropped");
+    gpuMilliseconds += statsNumber(stats, "gpu_milliseconds");
+    const auto k = stats.find("gpu_kernels");
+    if (k == stats.end() || !k->is_object()) return;
+    for (const auto& [name, total] : k->items()) {
+        auto& t = kernels[name];
         if (!t.is_object()) t = {{"milliseconds", 0.0}, {"dispatches", uint64_t(0)}};
         t["milliseconds"] = t.value("milliseconds", 0.0) + total.value("milliseconds", 0.0);
         t["dispatches"] = t.value("dispatches", uint64_t(0)) + total.value("dispatches", uint64_t(0));
     }
+}
+
+void StatsTotals::writeTo(nlohmann::json& stats, double renderSeconds) const {
+    stats["rays"] = rays;
+    stats["rays_per_second"] = renderSeconds > 0.0 ? double(rays) / renderSeconds : 0.0;
+    stats["nan_samples_dropped"] = nanDropped;
+    stats["gpu_milliseconds"] = gpuMilliseconds;
+    stats["gpu_kernels"] = kernels;
 }
 
 std::filesystem::path statsPathFor(const std::filesystem::path& image) {

@@ -16,9 +16,22 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
                            const std::filesystem::path& scenePath, double renderSeconds,
                            double samplingSeconds);
 
-// Adds a stats JSON's "gpu_kernels" ({name: {milliseconds, dispatches}}) into `totals`
-// (`pmcr merge` and the ranks of an MPI render).
-void addKernelTotals(nlohmann::json& totals, const nlohmann::json& kernels);
+// A number in a stats JSON, 0 when it is absent: as a double, or as an unsigned count.
+double statsNumber(const nlohmann::json& stats, const char* key);
+uint64_t statsCount(const nlohmann::json& stats, const char* key);
+
+// What several renders' stats add up to (`pmcr merge`'s pieces, the ranks of an MPI render):
+// rays, NaN samples dropped, GPU time and the per-kernel totals ("gpu_kernels").
+struct StatsTotals {
+    uint64_t rays = 0;
+    uint64_t nanDropped = 0;
+    double gpuMilliseconds = 0.0;
+    nlohmann::json kernels = nlohmann::json::object();
+
+    void add(const nlohmann::json& stats);
+    // Into `stats`, with rays per second over `renderSeconds`.
+    void writeTo(nlohmann::json& stats, double renderSeconds) const;
+};
 
 // `image.exr` -> `image.json`.
 std::filesystem::path statsPathFor(const std::filesystem::path& image);
