@@ -58,8 +58,10 @@ struct PhotonMapInfo {
     uint causticCount;       // photons in the caustic map
     uint causticHashMask;    // the caustic grid's bucket count - 1
     uint causticCellOffset;  // its first bucket in the cells buffer
+    uint gatherDirect;       // 1: the final gather estimates direct light at its hits by light
+                             // sampling and reads their non-direct photons; 0: all their photons
 };
-PMCR_CHECK_SIZE(PhotonMapInfo, 40);
+PMCR_CHECK_SIZE(PhotonMapInfo, 44);
 
 // Push constants of photon_shoot.comp.
 struct PhotonShootPush {

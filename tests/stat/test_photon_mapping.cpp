@@ -95,30 +95,35 @@ TEST_F(PhotonMapping, OnePassCarriesTheEmittedPower) {
 // seen, MIS direct light, and the final gather's photon lookups sum to L = 1 - 0.5^(D+1).
 // On the sphere a disc of radius r around a point holds exactly pi r^2 of surface, so the
 // estimate's bias comes from the tessellation and the depth limit alone; the tolerance shrinks
-// with the radius (fixed radius, --progressive off) and holds for every kernel and for reading
-// the map at the gather point (--gather-rays 0).
+// with the radius (fixed radius, --progressive off) and holds for every kernel, for reading
+// the map at the gather point (--gather-rays 0) and for direct light at the gather rays' hits by
+// light sampling (--gather-direct on: the photons there stand for indirect light only).
 TEST_F(PhotonMapping, FurnaceDensityEstimateGivesTheAnalyticAnswer) {
     const Scene& scene = testScene("scenes/furnace.glb");
     struct Case {
         double radius;
         const char* kernel;
         const char* gatherRays;
+        const char* gatherDirect;
     };
-    for (const Case& c : {Case{0.4, "epanechnikov", "4"}, Case{0.1, "epanechnikov", "4"},
-                          Case{0.1, "cone", "4"}, Case{0.1, "box", "0"}}) {
+    for (const Case& c : {Case{0.4, "epanechnikov", "4", "off"}, Case{0.1, "epanechnikov", "4", "off"},
+                          Case{0.1, "cone", "4", "off"}, Case{0.1, "box", "0", "off"},
+                          Case{0.4, "epanechnikov", "4", "on"}}) {
         RenderSettings s = pmSettings("pm", 32, 32, 16);
         s.maxDepth = 16;
         s.options["progressive"] = "off";
         s.options["radius"] = std::to_string(c.radius);
         s.options["kernel"] = c.kernel;
         s.options["gather-rays"] = c.gatherRays;
+        s.options["gather-direct"] = c.gatherDirect;
         s.options["photons"] = "40000";
         auto r = renderForTest(scene, s);
         const MeanEstimate m = pixelMean(r.output.image);
         // One photon map: its own noise (photons per disc) is shared by all pixels, so allow
         // 2% on top of the pixels' 5 sigma, plus a bias term proportional to r.
         EXPECT_NEAR(m.mean, furnaceAnswer(16), 5.0 * m.standardError + 0.02 + 0.05 * c.radius)
-            << "radius " << c.radius << " kernel " << c.kernel << " gather rays " << c.gatherRays;
+            << "radius " << c.radius << " kernel " << c.kernel << " gather rays " << c.gatherRays
+            << " gather direct " << c.gatherDirect;
     }
 }
 

@@ -65,6 +65,7 @@ PhotonMapOptions PhotonMapOptions::fromSettings(const RenderSettings& settings) 
     const int gather = settings.optionInt("gather-rays", int(o.gatherRays));
     if (gather < 0 || gather > 32) throw Error("--gather-rays: expected 0..32");
     o.gatherRays = uint32_t(gather);
+    o.gatherDirect = settings.optionBool("gather-direct", o.gatherDirect);
     o.kernel = kernelByName(settings.optionString("kernel", "epanechnikov"));
     const int lookup = settings.optionInt("max-lookup", int(o.maxLookup));
     if (lookup < 16 || lookup > 1024) throw Error("--max-lookup: expected 16..1024 photons");
@@ -81,6 +82,7 @@ std::vector<MethodOption> PhotonMapOptions::methodOptions() {
         {"progressive", "on", "on: new photons and a smaller radius every pass (consistent); off: one photon map at a fixed radius"},
         {"alpha", "0.7", "progressive radius reduction: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)"},
         {"gather-rays", "4", "final gather rays per gather point (0: read the photon map at the gather point)"},
+        {"gather-direct", "off", "on: direct light at the final gather's hits by light sampling, their non-direct photons only; off: all their photons"},
         {"kernel", "epanechnikov", "density estimation kernel: box, cone or epanechnikov"},
         {"max-lookup", "1024", "photons one density lookup reads at most; fuller cells are read strided (unbiased, noisier)"},
     };
@@ -148,6 +150,7 @@ PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options, do
     m_surfaceArea = surfaceArea(session.scene().scene());
     m_info.kernel = options.kernel;
     m_info.gatherRays = options.gatherRays;
+    m_info.gatherDirect = options.gatherDirect ? 1u : 0u;
     m_info.maxLookup = options.maxLookup;
 }
 
@@ -272,6 +275,7 @@ nlohmann::json PhotonMap::stats() {
     j["radius_final"] = m_info.radius;
     j["progressive"] = m_options.progressive;
     j["gather_rays"] = m_options.gatherRays;
+    j["gather_direct"] = m_options.gatherDirect;
     j["photon_shoot_seconds"] = m_shootSeconds;
     j["photon_build_seconds"] = m_buildSeconds;
     j["photon_paths_out_of_slots"] = c.values[gpu::COUNTER_PM_SLOTS_FULL];

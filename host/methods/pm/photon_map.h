@@ -42,6 +42,7 @@ struct PhotonMapOptions {
     bool progressive = true;           // new photons and a smaller radius every pass
     double alpha = 0.7;                // progressive radius reduction (SPPM's alpha)
     uint32_t gatherRays = 4;           // final gather rays per gather point (0: read the map there)
+    bool gatherDirect = false;         // direct light at the gather rays' hits by light sampling
     uint32_t kernel = 2;               // gpu::PM_KERNEL_*
     uint32_t maxLookup = 1024;         // photons one lookup reads at most
 

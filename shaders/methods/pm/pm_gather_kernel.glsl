@@ -11,8 +11,9 @@
 //    non-delta lobe and read every photon there (Jensen 2001 sec. 9.2). Emission the gather
 //    rays reach is the direct estimate's at their first hit; after delta scattering it counts
 //    only when x's own sample was a delta lobe (otherwise the path is a caustic at x, already
-//    in the caustic photons). gatherRays = 0 reads the non-direct, non-caustic photons at x
-//    instead.
+//    in the caustic photons). With gatherDirect (--gather-direct on) the direct light at y is
+//    estimated by light sampling instead and only y's non-direct photons are read. gatherRays
+//    = 0 reads the non-direct, non-caustic photons at x instead.
 // Each part estimates its own set of paths, so at a fixed radius the sum is the path tracer's
 // image up to density estimation's bias (blur), which vanishes as the radius shrinks.
 #include "shared/host_device.h"
@@ -67,7 +68,18 @@ vec3 finalGather(ShadingPoint sh, uint depth, inout Sampler smp, inout uint rays
             ShadingPoint y = makeShadingPoint(s, -dir);
             if (deltaAtX && k > 0u) L += w * emittedRadiance(s, -dir);
             if (bsdfHasNonDelta(y.bsdf)) {
-                L += w * photonRadiance(y, false, 0u, samplerGet1D(smp), gLookups);
+                float uLookup = samplerGet1D(smp);
+                if (photonMap.gatherDirect == 0u) {
+                    L += w * photonRadiance(y, false, 0u, uLookup, gLookups);
+                } else if (depth + 2u + k <= push.maxDepth) {
+                    // y's direct light by MIS of light and BSDF sampling (one of each), its
+                    // indirect light from the photons that are not the lights' first hits, so
+                    // the density estimate no longer blurs direct light's sharp edges. The
+                    // direct light at y ends a path of depth + 2 + k bounces.
+                    vec3 Ly = photonRadiance(y, false, PHOTON_DIRECT, uLookup, gLookups);
+                    addDirectLighting(y, smp, 1u, rays, Ly);
+                    L += w * Ly;
+                }
                 break;
             }
             if (k == chainMax) break;
