@@ -110,6 +110,7 @@ int runRender(const RenderCommand& command) {
         std::fprintf(stderr, "pmcr: error: rank %d: %s\n", comm.rank(), e.what());
         std::fflush(stderr);
         comm.abortJob(1);
+        throw;  // abortJob does not return under MPI
     }
     result = reduceRenderResults(std::move(result), requested, comm);
     if (comm.rank() > 0) {

@@ -59,6 +59,14 @@ bool RenderSession::interrupted() const { return interruptRequested(); }
 
 bool RenderSession::shouldStop() const { return interrupted() || timeUp(); }
 
+void RenderSession::updateSppProgress(uint64_t cameraSamples, double budgetSpp) {
+    const double sppDone = double(cameraSamples) / (double(m_width) * double(m_height));
+    const double fraction = m_settings.spp > 0 || m_settings.timeLimit <= 0.0
+                                ? sppDone / budgetSpp
+                                : elapsedSeconds() / m_settings.timeLimit;
+    m_progress->update(fraction, sppDone, "spp");
+}
+
 void RenderSession::snapshotIfDue(uint64_t cameraSamples, const std::function<Image()>& resolve) {
     const double seconds = elapsedSeconds();
     const double spp = double(cameraSamples) / (double(m_width) * double(m_height));

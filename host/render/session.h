@@ -84,6 +84,10 @@ public:
     // and so must end their iterations together; a collective: every rank calls it in turn.
     bool shouldStopTogether() { return m_comm.anyTrue(shouldStop()); }
 
+    // Progress of a render counted in camera samples per pixel: the share of `budgetSpp` done
+    // under --spp (or the method's default budget), of the time limit under --time alone.
+    void updateSppProgress(uint64_t cameraSamples, double budgetSpp);
+
     // Seconds a dispatch should take: short on a CPU device so the machine stays responsive,
     // and well under any GPU watchdog.
     double targetDispatchSeconds() const;

@@ -17,13 +17,7 @@ namespace {
 class PaperBaselines : public GpuTest {};
 
 RenderSettings smallRender(const std::string& method, int size, uint32_t spp) {
-    RenderSettings s;
-    s.method = method;
-    s.width = size;
-    s.height = size;
-    s.spp = spp;
-    s.maxDepth = 6;
-    return s;
+    return renderSettings(method, size, size, spp, 6);
 }
 
 // The mean of `renders` renders with `option` = `value` against as many with the default, per

@@ -19,15 +19,6 @@ namespace {
 
 class PhotonMapping : public GpuTest {};
 
-RenderSettings pmSettings(const std::string& method, int width, int height, uint32_t spp) {
-    RenderSettings s;
-    s.method = method;
-    s.width = width;
-    s.height = height;
-    s.spp = spp;
-    return s;
-}
-
 // The furnaces' answer with at most D bounces (tests/stat/test_pt_furnace.cpp).
 double furnaceAnswer(int maxDepth) { return 1.0 - std::pow(0.5, maxDepth + 1); }
 
@@ -48,7 +39,7 @@ MeanEstimate pixelMean(const Image& image) {
 
 TEST_F(PhotonMapping, SameSeedSameImageBitForBit) {
     for (const char* method : {"pm", "pm-pmc"}) {
-        RenderSettings s = pmSettings(method, 24, 24, 8);
+        RenderSettings s = renderSettings(method, 24, 24, 8);
         const Scene& scene = testScene("scenes/cornell-glass.glb");
         auto a = renderForTest(scene, s);
         auto b = renderForTest(scene, s);
@@ -61,7 +52,7 @@ TEST_F(PhotonMapping, SameSeedSameImageBitForBit) {
 // sum to the emitted power. Their count, and the caustic flag (no delta surfaces), are checked too.
 TEST_F(PhotonMapping, OnePassCarriesTheEmittedPower) {
     const Scene& scene = testScene("scenes/furnace.glb");
-    RenderSettings settings = pmSettings("pm", 16, 16, 1);
+    RenderSettings settings = renderSettings("pm", 16, 16, 1);
     RenderSession session(context(), scene, settings, 16, 16);
     PhotonMapOptions options;
     options.photonsPerPass = 20000;
@@ -109,7 +100,7 @@ TEST_F(PhotonMapping, FurnaceDensityEstimateGivesTheAnalyticAnswer) {
     for (const Case& c : {Case{0.4, "epanechnikov", "4", "off"}, Case{0.1, "epanechnikov", "4", "off"},
                           Case{0.1, "cone", "4", "off"}, Case{0.1, "box", "0", "off"},
                           Case{0.4, "epanechnikov", "4", "on"}}) {
-        RenderSettings s = pmSettings("pm", 32, 32, 16);
+        RenderSettings s = renderSettings("pm", 32, 32, 16);
         s.maxDepth = 16;
         s.options["progressive"] = "off";
         s.options["radius"] = std::to_string(c.radius);
@@ -132,10 +123,10 @@ TEST_F(PhotonMapping, FurnaceDensityEstimateGivesTheAnalyticAnswer) {
 // pt's means within 2% (the reference's own noise included).
 TEST_F(PhotonMapping, ProgressiveConvergesToPathTracing) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
-    RenderSettings ref = pmSettings("pt", 48, 48, 1024);
+    RenderSettings ref = renderSettings("pt", 48, 48, 1024);
     ref.maxDepth = 8;
     const Image reference = renderForTest(scene, ref).output.image;
-    RenderSettings s = pmSettings("pm", 48, 48, 64);
+    RenderSettings s = renderSettings("pm", 48, 48, 64);
     s.maxDepth = 8;
     s.snapshotSpp = {4, 16};
     auto r = renderForTest(scene, s);
@@ -163,7 +154,7 @@ TEST_F(PhotonMapping, ProgressiveConvergesToPathTracing) {
 // independent camera seeds pass the per-pixel z-test.
 TEST_F(PhotonMapping, PmcGatherEstimatesThePlainGather) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
-    RenderSettings base = pmSettings("pm", 20, 20, 16);
+    RenderSettings base = renderSettings("pm", 20, 20, 16);
     base.maxDepth = 6;
     base.options["progressive"] = "off";
     base.options["photon-seed"] = "11";

@@ -16,13 +16,7 @@ namespace {
 class PmcIpTest : public GpuTest {};
 
 RenderSettings pmcIpSettings(const std::string& method, int size, uint32_t spp) {
-    RenderSettings s;
-    s.method = method;
-    s.width = size;
-    s.height = size;
-    s.spp = spp;
-    s.maxDepth = 8;
-    return s;
+    return renderSettings(method, size, size, spp, 8);
 }
 
 TEST_F(PmcIpTest, SameSeedSameImageBitForBit) {

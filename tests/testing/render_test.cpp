@@ -17,6 +17,17 @@ const Scene& testScene(const std::string& relativePath) {
     return *slot;
 }
 
+RenderSettings renderSettings(const std::string& method, int width, int height, uint32_t spp,
+                              uint32_t maxDepth) {
+    RenderSettings s;
+    s.method = method;
+    s.width = width;
+    s.height = height;
+    s.spp = spp;
+    s.maxDepth = maxDepth;
+    return s;
+}
+
 RenderResult renderForTest(const Scene& scene, RenderSettings settings) {
     settings.quiet = true;
     resolveImageSize(scene, settings);

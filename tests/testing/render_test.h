@@ -14,6 +14,10 @@ namespace pmcr::test {
 // Loads a scene from the source tree once per test binary (cached by path).
 const Scene& testScene(const std::string& relativePath);
 
+// Settings for a small test render: `method` at width x height, `spp`, at most `maxDepth` bounces.
+RenderSettings renderSettings(const std::string& method, int width, int height, uint32_t spp,
+                              uint32_t maxDepth = RenderSettings{}.maxDepth);
+
 // Renders `scene` with `settings` (size resolved from the scene when 0).
 RenderResult renderForTest(const Scene& scene, RenderSettings settings);
 

@@ -82,11 +82,7 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
             offset = 0;
             sample += 1;
         }
-        const double sppDone = double(samples) / double(pixels);
-        const double fraction = settings.spp > 0 || settings.timeLimit <= 0.0
-                                    ? sppDone / double(spp)
-                                    : session.elapsedSeconds() / settings.timeLimit;
-        session.progress().update(fraction, sppDone, "spp");
+        session.updateSppProgress(samples, double(spp));
         session.snapshotIfDue(samples, [&] {
             return resolveAverage(film.download(), film.width(), film.height());
         });

@@ -163,11 +163,7 @@ RenderOutput PathTracer::render(RenderSession& session) {
                      std::max<uint32_t>(batch.dispatchCount(), 1));
         film.addCounters(session.counters());
         samples += batchSamples;
-        const double sppDone = double(samples) / double(pixels);
-        const double fraction = settings.spp > 0 || settings.timeLimit <= 0.0
-                                    ? sppDone / double(spp)
-                                    : session.elapsedSeconds() / settings.timeLimit;
-        session.progress().update(fraction, sppDone, "spp");
+        session.updateSppProgress(samples, double(spp));
         session.snapshotIfDue(samples, [&] {
             return resolveAverage(film.download(), film.width(), film.height());
         });
