@@ -15,6 +15,8 @@ PMCR_CONST uint PM_BINDING_INFO = 12;     // PhotonMapInfo: this pass's radius a
 PMCR_CONST uint PHOTON_STORED = 1u;   // a photon (a slot without it ends the path's photons)
 PMCR_CONST uint PHOTON_DIRECT = 2u;   // the light's first hit: light -> here
 PMCR_CONST uint PHOTON_CAUSTIC = 4u;  // light -> one or more delta scatterings -> here (L S+ D)
+PMCR_CONST uint PHOTON_HIT_SHIFT = 8u;  // flags >> PHOTON_HIT_SHIFT: the path's hit index h >= 1
+                                        // (h - 1 bounces since the light), for the depth limit
 
 // One photon, 32 bytes: where it landed, the direction back along its last segment
 // (octahedral, two 16-bit halves), and its flux (power, in W for the whole pass's photons: the
@@ -23,7 +25,7 @@ struct Photon {
     vec3 position;
     uint direction;  // octEncode(wi), wi pointing back towards where the photon came from
     vec3 power;
-    uint flags;      // PHOTON_*
+    uint flags;      // PHOTON_* | hit index << PHOTON_HIT_SHIFT
 };
 PMCR_CHECK_SIZE(Photon, 32);
 

@@ -57,12 +57,15 @@ uint photonCornerBucket(ivec3 lo, uint c, uint mask) {
 }
 
 // Radiance reflected at sh towards sh's wo by the photons within the radius of the caustic map
-// (caustic) or the global one, whose flags hold none of `exclude`; u in [0, 1) picks the offset
+// (caustic) or the global one, whose flags hold none of `exclude` and whose hit index is at most
+// maxHit (a photon at hit h ends a light path of h - 1 bounces, so a gather point whose own path
+// has b bounces up to here reads h <= maxDepth - b: the depth limit); u in [0, 1) picks the offset
 // of strided buckets. Cells the disc's bounding sphere misses are skipped. A Lambertian surface sums the photons' flux on
 // its front side and multiplies by its f once; other BSDFs are evaluated per photon. (Two
 // loops, not one with a branch inside: lavapipe runs both sides of a branch under lane masks,
 // but a loop whose lanes are all masked off ends at once.)
-vec3 photonRadiance(ShadingPoint sh, bool caustic, uint exclude, float u, inout LookupStats stats) {
+vec3 photonRadiance(ShadingPoint sh, bool caustic, uint exclude, uint maxHit, float u,
+                    inout LookupStats stats) {
     float r = photonMap.radius;
     float r2 = r * r;
     vec3 x = sh.surface.position;
@@ -105,7 +108,8 @@ vec3 photonRadiance(ShadingPoint sh, bool caustic, uint exclude, float u, inout 
                 vec3 d = photons[i].position - x;
                 float d2 = dot(d, d);
                 uint flags = photons[i].flags;
-                if (!(d2 < r2) || (flags & exclude) != 0u) continue;
+                bool skip = (flags & exclude) != 0u || (flags >> PHOTON_HIT_SHIFT) > maxHit;
+                if (!(d2 < r2) || skip) continue;
                 vec3 wi = octDecode(unpackSnorm2x16(photons[i].direction));
                 // shadingEval's side checks: wi above both the geometric and the shading normal.
                 if (!(dot(wi, sh.ng) > 0.0) || !(dot(wi, sh.frame.n) > 0.0)) continue;
@@ -118,7 +122,8 @@ vec3 photonRadiance(ShadingPoint sh, bool caustic, uint exclude, float u, inout 
                 vec3 d = photons[i].position - x;
                 float d2 = dot(d, d);
                 uint flags = photons[i].flags;
-                if (!(d2 < r2) || (flags & exclude) != 0u) continue;
+                bool skip = (flags & exclude) != 0u || (flags >> PHOTON_HIT_SHIFT) > maxHit;
+                if (!(d2 < r2) || skip) continue;
                 stats.used += 1u;
                 vec3 wi = octDecode(unpackSnorm2x16(photons[i].direction));
                 float pdf, absCos;

@@ -51,7 +51,8 @@ void main() {
                     break;
                 }
                 uint flags = PHOTON_STORED | (hitIndex == 1u ? PHOTON_DIRECT : 0u) |
-                             (hitIndex > 1u && specularChain ? PHOTON_CAUSTIC : 0u);
+                             (hitIndex > 1u && specularChain ? PHOTON_CAUSTIC : 0u) |
+                             (hitIndex << PHOTON_HIT_SHIFT);
                 slots[base + stored] = Photon(s.position, packSnorm2x16(octEncode(wo)), beta, flags);
                 stored += 1u;
             }

@@ -69,14 +69,18 @@ vec3 finalGather(ShadingPoint sh, uint depth, inout Sampler smp, inout uint rays
             if (deltaAtX && k > 0u) L += w * emittedRadiance(s, -dir);
             if (bsdfHasNonDelta(y.bsdf)) {
                 float uLookup = samplerGet1D(smp);
+                // The path has depth + 1 + k bounces before y (the camera's delta ones, x, the
+                // gather ray's delta ones) and y's scattering makes one more: photons of hit
+                // h <= maxDepth - depth - k - 1 keep it within maxDepth.
+                uint maxHit = push.maxDepth - min(push.maxDepth, depth + k + 1u);
                 if (photonMap.gatherDirect == 0u) {
-                    L += w * photonRadiance(y, false, 0u, uLookup, gLookups);
-                } else if (depth + 2u + k <= push.maxDepth) {
+                    L += w * photonRadiance(y, false, 0u, maxHit, uLookup, gLookups);
+                } else if (maxHit >= 1u) {
                     // y's direct light by MIS of light and BSDF sampling (one of each), its
                     // indirect light from the photons that are not the lights' first hits, so
                     // the density estimate no longer blurs direct light's sharp edges. The
                     // direct light at y ends a path of depth + 2 + k bounces.
-                    vec3 Ly = photonRadiance(y, false, PHOTON_DIRECT, uLookup, gLookups);
+                    vec3 Ly = photonRadiance(y, false, PHOTON_DIRECT, maxHit, uLookup, gLookups);
                     addDirectLighting(y, smp, 1u, rays, Ly);
                     L += w * Ly;
                 }
@@ -144,12 +148,16 @@ vec3 estimateRadiance(vec2 raster, inout Sampler smp, inout uint rays, uint reco
         addDirectLighting(sh, smp, push.lightSamples, rays, Lx);
 #endif
         if (depth + 1u < push.maxDepth) {
+            // x's photons of hit h end paths of depth + h bounces.
+            uint maxHit = push.maxDepth - depth;
             float uCaustic = samplerGet1D(smp);
-            if (photonMap.causticCount > 0u) Lx += photonRadiance(sh, true, 0u, uCaustic, gLookups);
+            if (photonMap.causticCount > 0u)
+                Lx += photonRadiance(sh, true, 0u, maxHit, uCaustic, gLookups);
             if (photonMap.gatherRays > 0u)
                 Lx += finalGather(sh, depth, smp, rays);
             else
-                Lx += photonRadiance(sh, false, PHOTON_DIRECT | PHOTON_CAUSTIC, samplerGet1D(smp), gLookups);
+                Lx += photonRadiance(sh, false, PHOTON_DIRECT | PHOTON_CAUSTIC, maxHit,
+                                     samplerGet1D(smp), gLookups);
         }
         L += beta * Lx;
     }
