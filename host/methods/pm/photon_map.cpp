@@ -203,7 +203,7 @@ void PhotonMap::build(uint32_t pass) {
         // Automatic: the radius whose disc would hold photonsPerDisc of the first pass's photons
         // spread evenly over the scene's surface, but at most kFootprintPixels pixels' footprint
         // at the scene's centre (scenes with a vast ground plane would otherwise blur by metres).
-        constexpr double kFootprintPixels = 2.0;
+        constexpr double kFootprintPixels = 1.0;
         const gpu::SceneInfo& info = m_session.scene().info();
         const double spread = std::sqrt(m_options.photonsPerDisc * m_surfaceArea /
                                         (glm::pi<double>() * std::max<double>(1.0, double(m_photons.size()))));
