@@ -4,6 +4,7 @@
 // PMC-HI for direct light) estimates what pm's plain gather does from the same photon map.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "gpu_test.h"
@@ -124,6 +125,15 @@ TEST_F(PhotonMapping, FurnaceDensityEstimateGivesTheAnalyticAnswer) {
     }
 }
 
+// The green channel's sums over the 2 x 2 quadrants of `image` (48 x 48).
+std::array<double, 4> quadrantSums(const Image& image) {
+    std::array<double, 4> sums{};
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x)
+            sums[(y / 24) * 2 + x / 24] += image.rgb[3 * (size_t(y) * 48 + size_t(x)) + 1];
+    return sums;
+}
+
 // Progressive photon mapping converges to the path tracer's image: its Err against a pt
 // reference falls from pass count to pass count, and at the end the image's quadrants have
 // pt's means within 2% (the reference's own noise included: at 1024 spp the glass sphere's
@@ -143,16 +153,24 @@ TEST_F(PhotonMapping, ProgressiveConvergesToPathTracing) {
     errs.push_back(measureError(r.output.image, reference).mse);
     EXPECT_LT(errs[1], errs[0]) << errs[0] << " " << errs[1];
     EXPECT_LT(errs[2], errs[1]) << errs[1] << " " << errs[2];
-    for (int q = 0; q < 4; ++q) {
-        double a = 0.0, b = 0.0;
-        for (int y = (q / 2) * 24; y < (q / 2 + 1) * 24; ++y)
-            for (int x = (q % 2) * 24; x < (q % 2 + 1) * 24; ++x) {
-                const size_t i = size_t(y) * 48 + size_t(x);
-                a += r.output.image.rgb[3 * i + 1];
-                b += reference.rgb[3 * i + 1];
-            }
-        EXPECT_NEAR(a / b, 1.0, 0.02) << "quadrant " << q;
-    }
+    const std::array<double, 4> a = quadrantSums(r.output.image), b = quadrantSums(reference);
+    for (int q = 0; q < 4; ++q) EXPECT_NEAR(a[q] / b[q], 1.0, 0.02) << "quadrant " << q;
+}
+
+// Issue 24's "block means within 1%", on a scene whose pt reference is cheap to make precise:
+// the diffuse Cornell box (no caustics, so the reference's quadrant means are within 0.1% at
+// 4096 spp), where 64 spp of progressive pm end within 1% in every quadrant (measured: 0.59%
+// at most; 0.24% at 256 spp). bench/photon checks lamp-room and room, with references of an
+// hour's rendering.
+TEST_F(PhotonMapping, ProgressiveQuadrantsWithinOnePercentOnTheDiffuseBox) {
+    const Scene& scene = testScene("scenes/cornell-classic.glb");
+    RenderSettings ref = renderSettings("pt", 48, 48, 4096);
+    ref.maxDepth = 8;
+    RenderSettings s = renderSettings("pm", 48, 48, 64);
+    s.maxDepth = 8;
+    const std::array<double, 4> a = quadrantSums(renderForTest(scene, s).output.image);
+    const std::array<double, 4> b = quadrantSums(renderForTest(scene, ref).output.image);
+    for (int q = 0; q < 4; ++q) EXPECT_NEAR(a[q] / b[q], 1.0, 0.01) << "quadrant " << q;
 }
 
 // pm-pmc against pm with the same photon map (one map at a fixed radius, a fixed photon seed):
