@@ -106,8 +106,7 @@ TEST_F(PhotonMapping, FurnaceDensityEstimateGivesTheAnalyticAnswer) {
           Case{0.1, "cone", "4", "off", 16}, Case{0.1, "box", "0", "off", 16},
           Case{0.4, "epanechnikov", "4", "on", 16}, Case{0.1, "epanechnikov", "4", "off", 2},
           Case{0.1, "box", "0", "off", 2}, Case{0.1, "epanechnikov", "4", "on", 3}}) {
-        RenderSettings s = renderSettings("pm", 32, 32, 16);
-        s.maxDepth = uint32_t(c.maxDepth);
+        RenderSettings s = renderSettings("pm", 32, 32, 16, uint32_t(c.maxDepth));
         s.options["progressive"] = "off";
         s.options["radius"] = std::to_string(c.radius);
         s.options["kernel"] = c.kernel;
@@ -140,11 +139,9 @@ std::array<double, 4> quadrantSums(const Image& image) {
 // quadrant of the reference was 1.5% bright, so it takes 4096).
 TEST_F(PhotonMapping, ProgressiveConvergesToPathTracing) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
-    RenderSettings ref = renderSettings("pt", 48, 48, 4096);
-    ref.maxDepth = 8;
+    RenderSettings ref = renderSettings("pt", 48, 48, 4096, 8);
     const Image reference = renderForTest(scene, ref).output.image;
-    RenderSettings s = renderSettings("pm", 48, 48, 64);
-    s.maxDepth = 8;
+    RenderSettings s = renderSettings("pm", 48, 48, 64, 8);
     s.snapshotSpp = {4, 16};
     auto r = renderForTest(scene, s);
     ASSERT_EQ(r.snapshots.size(), 2u);
@@ -164,10 +161,8 @@ TEST_F(PhotonMapping, ProgressiveConvergesToPathTracing) {
 // hour's rendering.
 TEST_F(PhotonMapping, ProgressiveQuadrantsWithinOnePercentOnTheDiffuseBox) {
     const Scene& scene = testScene("scenes/cornell-classic.glb");
-    RenderSettings ref = renderSettings("pt", 48, 48, 4096);
-    ref.maxDepth = 8;
-    RenderSettings s = renderSettings("pm", 48, 48, 64);
-    s.maxDepth = 8;
+    RenderSettings ref = renderSettings("pt", 48, 48, 4096, 8);
+    RenderSettings s = renderSettings("pm", 48, 48, 64, 8);
     const std::array<double, 4> a = quadrantSums(renderForTest(scene, s).output.image);
     const std::array<double, 4> b = quadrantSums(renderForTest(scene, ref).output.image);
     for (int q = 0; q < 4; ++q) EXPECT_NEAR(a[q] / b[q], 1.0, 0.01) << "quadrant " << q;
@@ -179,8 +174,7 @@ TEST_F(PhotonMapping, ProgressiveQuadrantsWithinOnePercentOnTheDiffuseBox) {
 // independent camera seeds pass the per-pixel z-test.
 TEST_F(PhotonMapping, PmcGatherEstimatesThePlainGather) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
-    RenderSettings base = renderSettings("pm", 20, 20, 16);
-    base.maxDepth = 6;
+    RenderSettings base = renderSettings("pm", 20, 20, 16, 6);
     base.options["progressive"] = "off";
     base.options["photon-seed"] = "11";
     base.options["radius"] = "0.1";

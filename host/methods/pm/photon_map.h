@@ -6,10 +6,12 @@
 //
 // Radius: --radius in scene units, or (0, the default) the radius whose disc would hold
 // --photons-per-disc of the first pass's photons were they spread evenly over the scene's
-// surface area, at most 1 pixel's footprint at the distance of the scene's centre. Progressive (the default) shrinks it from pass to pass, r_{i+1}^2 =
-// r_i^2 (i + alpha) / (i + 1) (Hachisuka and Jensen 2009's SPPM radius reduction in the
-// probabilistic form of Knaus and Zwicker 2011, eq. 19, one radius for every point so that the
-// final gather's hit points, new every pass, can share it): the average of the passes' images
+// surface area, at most 1 pixel's footprint at the distance of the scene's centre (docs/methods/
+// pm.md: the cap that brings lamp-room's and room's block means within 1% of pt's). Progressive
+// (the default) shrinks it from pass to pass, r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)
+// (Hachisuka and Jensen 2009's SPPM radius reduction in the probabilistic form of Knaus and
+// Zwicker 2011, eq. 19, one radius for every point so that the final gather's hit points, new
+// every pass, can share it): the average of the passes' images
 // converges to the path tracer's; at a fixed radius (--progressive off: one photon pass, the
 // classic two-pass renderer) the image keeps density estimation's bias.
 //

@@ -111,29 +111,20 @@ ImagePlaneSampler::ImagePlaneSampler(int width, int height, const ImagePlaneOpti
 
 std::vector<double> ImagePlaneSampler::pilotPerceptualVariance() const {
     const size_t pixels = m_count.size();
-    std::vector<double> v(pixels, 0.0);
-    if (m_sumPilots) {
-        // Every process's pilot moments: [sum, sum of squares, count] per pixel.
-        std::vector<double> pooled(3 * pixels);
-        for (size_t i = 0; i < pixels; ++i) {
-            pooled[3 * i + 0] = m_pilotLumSum[i];
-            pooled[3 * i + 1] = m_pilotLumSqSum[i];
-            pooled[3 * i + 2] = double(m_pilotCount[i]);
-        }
-        m_sumPilots(pooled);
-        for (size_t i = 0; i < pixels; ++i) {
-            const double n = pooled[3 * i + 2];
-            if (n < 2.0) continue;
-            v[i] = sampleVariance(pooled[3 * i], pooled[3 * i + 1], n) /
-                   tvi(pooled[3 * i] / n, m_options.displayWhite);
-        }
-        return v;
-    }
+    // The pilot moments [sum, sum of squares, count] per pixel: this process's, or every
+    // process's with a pilot reduction.
+    std::vector<double> moments(3 * pixels);
     for (size_t i = 0; i < pixels; ++i) {
-        const double n = double(m_pilotCount[i]);
+        moments[3 * i + 0] = m_pilotLumSum[i];
+        moments[3 * i + 1] = m_pilotLumSqSum[i];
+        moments[3 * i + 2] = double(m_pilotCount[i]);
+    }
+    if (m_sumPilots) m_sumPilots(moments);
+    std::vector<double> v(pixels, 0.0);
+    for (size_t i = 0; i < pixels; ++i) {
+        const double sum = moments[3 * i], sumSq = moments[3 * i + 1], n = moments[3 * i + 2];
         if (n < 2.0) continue;
-        v[i] = sampleVariance(m_pilotLumSum[i], m_pilotLumSqSum[i], n) /
-               tvi(m_pilotLumSum[i] / n, m_options.displayWhite);
+        v[i] = sampleVariance(sum, sumSq, n) / tvi(sum / n, m_options.displayWhite);
     }
     return v;
 }
