@@ -350,7 +350,43 @@ Bvh Bvh::build(std::span<const gpu::Vertex> vertices, std::span<const gpu::Trian
 }
 
 std::vector<glm::uvec4> Bvh::deviceTexels() const {
-    const size_t triangleBase = 2 * m_nodes.size();
+    // Each 4-wide node is a binary interior node with its two children opened: its children
+    // are the binary node's grandchildren, or a binary child itself where that is a leaf (a
+    // binary root that is a leaf becomes the one child of the wide root). So a binary leaf at
+    // depth d sits below ceil(d / 2) wide nodes, and the traversal's stack bound holds
+    // (BVH_STACK_SIZE in shared/scene_types.h). Wide nodes are numbered breadth first.
+    std::vector<std::array<uint32_t, gpu::BVH_WIDTH>> children;  // binary nodes, per wide node
+    std::vector<uint32_t> childCount;
+    std::vector<uint32_t> wideIndex(m_nodes.size(), 0);  // of a binary node that roots one
+    std::vector<uint32_t> queue{0};
+    for (size_t q = 0; q < queue.size(); ++q) {
+        const gpu::BvhNode& root = m_nodes[queue[q]];
+        std::vector<uint32_t> kids;
+        if (root.count > 0) {
+            kids.push_back(queue[q]);
+        } else {
+            for (const uint32_t c : {root.leftOrFirst, root.leftOrFirst + 1}) {
+                if (m_nodes[c].count > 0) {
+                    kids.push_back(c);
+                } else {
+                    kids.push_back(m_nodes[c].leftOrFirst);
+                    kids.push_back(m_nodes[c].leftOrFirst + 1);
+                }
+            }
+        }
+        std::array<uint32_t, gpu::BVH_WIDTH> slots{};
+        for (size_t k = 0; k < kids.size(); ++k) {
+            slots[k] = kids[k];
+            if (m_nodes[kids[k]].count == 0) {
+                wideIndex[kids[k]] = uint32_t(queue.size());
+                queue.push_back(kids[k]);
+            }
+        }
+        children.push_back(slots);
+        childCount.push_back(uint32_t(kids.size()));
+    }
+
+    const size_t triangleBase = size_t{gpu::BVH_NODE_TEXELS} * children.size();
     const size_t texelCount = triangleBase + 3 * m_triangles.size();
     if (texelCount > gpu::BVH_MAX_TEXELS) {
         throw Error("BVH of " + std::to_string(m_triangles.size()) + " triangles needs " +
@@ -358,12 +394,27 @@ std::vector<glm::uvec4> Bvh::deviceTexels() const {
                     std::to_string(gpu::BVH_MAX_TEXELS) + ")");
     }
     std::vector<glm::uvec4> texels(texelCount);
-    for (size_t i = 0; i < m_nodes.size(); ++i) {
-        const gpu::BvhNode& n = m_nodes[i];
-        const size_t ref =
-            n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst} : 2 * size_t{n.leftOrFirst};
-        texels[2 * i] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMin), uint32_t(ref));
-        texels[2 * i + 1] = glm::uvec4(std::bit_cast<glm::uvec3>(n.boundsMax), n.count);
+    for (size_t w = 0; w < children.size(); ++w) {
+        glm::uvec4* node = &texels[gpu::BVH_NODE_TEXELS * w];
+        for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
+            uint32_t ref = gpu::BVH_EMPTY_CHILD;
+            glm::vec3 lo(0.0f);
+            glm::vec3 hi(0.0f);
+            if (k < childCount[w]) {
+                const gpu::BvhNode& n = m_nodes[children[w][k]];
+                lo = n.boundsMin;
+                hi = n.boundsMax;
+                const size_t address =
+                    n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst}
+                                : size_t{gpu::BVH_NODE_TEXELS} * wideIndex[children[w][k]];
+                ref = (uint32_t(address) << 3) | n.count;
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                node[axis][k] = std::bit_cast<uint32_t>(lo[axis]);
+                node[3 + axis][k] = std::bit_cast<uint32_t>(hi[axis]);
+            }
+            node[6][k] = ref;
+        }
     }
     for (size_t i = 0; i < m_triangles.size(); ++i) {
         const gpu::IsectTriangle& t = m_triangles[i];

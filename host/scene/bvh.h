@@ -1,8 +1,9 @@
 // Bounding volume hierarchy over the scene's world-space triangles: a binned SAH build
 // (Wald 2007, "On fast Construction of SAH-based Bounding Volume Hierarchies"), flattened into
-// nodes and triangles (gpu::BvhNode, gpu::IsectTriangle in shared/scene_types.h) that the
-// kernels read, serialized, from one texel buffer (deviceTexels), and the scalar CPU traversal
-// of the same nodes and triangles that is the reference for shaders/common/bvh.glsl.
+// binary nodes and triangles (gpu::BvhNode, gpu::IsectTriangle in shared/scene_types.h); the
+// kernels read the same tree collapsed to 4-wide nodes, serialized into one texel buffer
+// (deviceTexels), and the scalar CPU traversal of the binary nodes is the reference for
+// shaders/common/bvh.glsl (the same closest hits).
 //
 // Intersection policy (identical in C++ and GLSL):
 //  - Moller-Trumbore (1997) with a division-free inside test: the barycentric numerators are
@@ -85,10 +86,10 @@ public:
     const std::vector<gpu::IsectTriangle>& triangles() const { return m_triangles; }
     uint32_t depth() const { return m_depth; }  // deepest leaf; the root has depth 0
 
-    // The same nodes and triangles as the kernels read them: one array of 16-byte texels,
-    // node i at texels 2i and 2i + 1 with leftOrFirst replaced by a texel address, then the
-    // triangles, three texels each (layout in shared/scene_types.h). Throws pmcr::Error when
-    // the addresses do not fit (BVH_MAX_TEXELS).
+    // The tree as the kernels read it: one array of 16-byte texels, the binary tree collapsed
+    // to 4-wide nodes (each interior node with its two children opened), then the triangles,
+    // three texels each (layout in shared/scene_types.h). Throws pmcr::Error when the
+    // addresses do not fit (BVH_MAX_TEXELS).
     std::vector<glm::uvec4> deviceTexels() const;
 
     // Closest hit with 0 < t < tMax. On a miss returns false and sets hit to

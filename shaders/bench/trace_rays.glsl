@@ -16,13 +16,13 @@ layout(push_constant, scalar) uniform Push {
 
 #include "common/scene.glsl"
 
-bool startRay(uint i, out BvhTraversal t) {
+void startRay(uint i, out BvhTraversal t) {
 #ifdef BVH_COUNT_STEPS
     bvhInteriorSteps = 0u;
     bvhTriangleSteps = 0u;
 #endif
     BvhQuery q = queries[i];
-    return bvhBegin(q.origin, q.direction, q.tMax, push.anyHit != 0u, t);
+    bvhBegin(q.origin, q.direction, q.tMax, push.anyHit != 0u, t);
 }
 
 void finishRay(uint i, BvhTraversal t) {
@@ -43,7 +43,8 @@ void main() {
     uint ray = gl_GlobalInvocationID.x;
     if (ray >= N) return;
     BvhTraversal t;
-    bool running = startRay(ray, t);
+    startRay(ray, t);
+    bool running = true;
     // Each ray takes fewer steps than the BVH has texels (bvh.glsl), plus one to finish it.
     uint steps = P * (uint(textureSize(bvhTexels)) + 1u);
     for (uint step = 0u; step < steps; ++step) {
@@ -54,7 +55,8 @@ void main() {
             finishRay(ray, t);
             ray += N;
             if (ray >= push.count) break;
-            running = startRay(ray, t);
+            startRay(ray, t);
+            running = true;
         }
     }
 }

@@ -1,28 +1,32 @@
-// BVH traversal used by every kernel: closest hit and any hit on the binary BVH that
-// host/scene/bvh.cpp builds. The arithmetic (intersection tests, epsilon policy, traversal
-// order) is that of Bvh::traceClosest / Bvh::traceAny; see host/scene/bvh.h for the policy:
-// Moller-Trumbore with a division-free inside test and inclusive edges, hits with
-// 0 < t < tMax, no self-intersection epsilon (offset origins in the caller).
+// BVH traversal used by every kernel: closest hit and any hit on the 4-wide form of the BVH
+// that host/scene/bvh.cpp builds. The arithmetic (intersection tests, epsilon policy) is that
+// of Bvh::traceClosest / Bvh::traceAny, which traverse the binary tree and give the same
+// closest hits (up to which of two triangles sharing an edge reports it); see
+// host/scene/bvh.h for the policy: Moller-Trumbore with a division-free inside test and
+// inclusive edges, hits with 0 < t < tMax, no self-intersection epsilon (offset origins in the
+// caller).
 //
 // The BVH is one uniform texel buffer of uvec4 (Bvh::deviceTexels, layout in
-// shared/scene_types.h): node i is texels 2i (boundsMin, ref) and 2i + 1 (boundsMax, count),
-// where ref is the texel address of the first child's record (interior, count == 0) or of the
-// first triangle (leaf); a triangle is three texels (v0 + original index, e1, e2).
+// shared/scene_types.h): a wide node is BVH_NODE_TEXELS texels, its four children's boxes as
+// structure of arrays and their refs; a triangle is three texels (v0 + original index, e1, e2).
 //
 // Written for SIMD-on-CPU implementations (lavapipe runs 8 invocations as the lanes of one
 // vector, both sides of a divergent branch under masks), where memory reads dominate: a texel
 // fetch is a vector gather, while an SSBO load with per-lane addresses is a loop over the
 // lanes. So each traversal step is one "if-if" step (Aila & Laine 2009, "Understanding the
-// Efficiency of Ray Traversal on GPUs") that does the same four texel fetches in every lane,
-// whatever the lane is doing: the two child records of an interior node (4 texels), or one
-// triangle of a leaf (3 texels). The box and the triangle arithmetic are cheap next to them.
+// Efficiency of Ray Traversal on GPUs") that does the same seven texel fetches in every lane,
+// whatever the lane is doing: a wide node (7 texels), or two triangles of a leaf (6 texels).
+// Four children a step take about half the steps of the binary tree's two (bench/throughput
+// --steps), 1.1-1.3x the rays per second on lavapipe (docs/benchmarks.md, issue 20).
 //
-// Bounds: the stack holds BVH_MAX_DEPTH node references (near child first pushes at most one
-// sibling per level, and the builder caps leaf depth at BVH_MAX_DEPTH); each step visits one
-// interior node or one triangle and none twice, so the loop runs fewer than
+// Bounds: the stack holds BVH_STACK_SIZE node references (near child first pushes at most
+// three children per wide node, and leaves lie below at most BVH_MAX_DEPTH / 2 wide nodes);
+// each step visits one wide node or two triangles and none twice, so the loop runs fewer than
 // textureSize(bvhTexels) times.
 #ifndef PMCR_COMMON_BVH_GLSL
 #define PMCR_COMMON_BVH_GLSL
+
+#include "common/math.glsl"
 
 layout(set = SCENE_SET, binding = BINDING_BVH) uniform usamplerBuffer bvhTexels;
 
@@ -43,19 +47,6 @@ vec3 bvhSafeInverse(vec3 dir) {
                    : dir[i];
     }
     return 1.0 / d;
-}
-
-// Slab test (Kay & Kajiya 1986) against [0, tMax]; tNear is the entry distance, clamped to 0.
-// The exit distance is scaled by 1 + 2 gamma(3) (pbrt-v4 Bounds3::IntersectP).
-bool bvhIntersectBox(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 invDir, float tMax,
-                     out float tNear) {
-    vec3 t0 = (boundsMin - origin) * invDir;
-    vec3 t1 = (boundsMax - origin) * invDir;
-    vec3 tMinV = min(t0, t1);
-    vec3 tMaxV = max(t0, t1);
-    tNear = max(max(tMinV.x, tMinV.y), max(tMinV.z, 0.0));
-    float tFar = min(min(min(tMaxV.x, tMaxV.y), tMaxV.z) * BVH_BOX_EXIT_SCALE, tMax);
-    return tNear <= tFar;
 }
 
 // Moller & Trumbore 1997 with the inside test on numerators scaled by |det|; on a hit with
@@ -90,31 +81,26 @@ bool bvhIntersectTriangle(vec4 v0, vec4 e1, vec4 e2, vec3 origin, vec3 dir, inou
     return true;
 }
 
-// The traversal's reference to a node: its ref * 8 + count (count <= BVH_MAX_LEAF_TRIANGLES
-// < 8; Bvh::deviceTexels keeps texel addresses below 2^29). Inside a leaf the same form walks
-// its triangles: address of the next one * 8 + how many are left.
-uint bvhNodeRef(uvec4 lo, uvec4 hi) { return (lo.w << 3) | hi.w; }
-
-// The stack below the traversal's eight register entries: BVH_MAX_DEPTH - 8 entries per
-// invocation in workgroup-shared memory (14 KiB for 64 invocations, within Vulkan's 16 KiB
-// minimum of maxComputeSharedMemorySize); every kernel that traces has local_size_x =
-// WORKGROUP_SIZE. An invocation runs one traversal at a time. On lavapipe pt's kernel samples
-// 1.4-1.6x faster with this shared array than with a private uint[BVH_MAX_DEPTH] doing the
-// same accesses (three paired runs of bench/throughput, issue 20; images the same bit for
-// bit), while the bench's traversal-only kernel runs as fast with either.
-shared uint bvhStackSpillShared[WORKGROUP_SIZE * (BVH_MAX_DEPTH - 8u)];
-#define bvhStackSpill(i) bvhStackSpillShared[gl_LocalInvocationIndex * (BVH_MAX_DEPTH - 8u) + (i)]
+// The stack below the traversal's eight register entries: BVH_STACK_SIZE - 8 entries per
+// invocation in workgroup-shared memory (16 KiB for 64 invocations, Vulkan's minimum of
+// maxComputeSharedMemorySize); every kernel that traces has local_size_x = WORKGROUP_SIZE. An
+// invocation runs one traversal at a time. On lavapipe pt's kernel samples 1.4-1.6x faster
+// with a shared array than with a private one doing the same accesses (three paired runs of
+// bench/throughput, issue 20; images the same bit for bit), while the bench's traversal-only
+// kernel runs as fast with either.
+shared uint bvhStackSpillShared[WORKGROUP_SIZE * (BVH_STACK_SIZE - 8u)];
+#define bvhStackSpill(i) bvhStackSpillShared[gl_LocalInvocationIndex * (BVH_STACK_SIZE - 8u) + (i)]
 
 // A traversal in progress: near-child-first, with anyHit it ends at the first hit. bvhBegin
-// starts one, each bvhStep takes one step (an interior step tests both child boxes, descends
-// into the nearer and pushes the farther; a leaf step tests one triangle), so that a kernel can
-// run the steps of several rays in turn in one loop (trace_rays.glsl) as well as one ray's.
+// starts one, each bvhStep takes one step (a wide step tests four child boxes, descends into
+// the nearest hit and pushes the others; a leaf step tests two triangles), so that a kernel
+// can run the steps of several rays in turn in one loop (trace_rays.glsl) as well as one ray's.
 struct BvhTraversal {
     vec3 origin;
     vec3 dir;
     vec3 invDir;
     Hit hit;          // the closest hit so far; its t bounds the search
-    uint ref;         // the next step's node or triangle (bvhNodeRef)
+    uint ref;         // the next step's node or triangles (a ref, shared/scene_types.h)
     uint stackSize;
     // The stack's top eight entries, in registers.
     uint top0;
@@ -129,9 +115,9 @@ struct BvhTraversal {
     bool found;       // a triangle was hit
 };
 
-// Starts the traversal of origin + t dir for hits with 0 < t < tMax. Returns false when the
-// ray misses the root box: the traversal has then already ended, with found == false.
-bool bvhBegin(vec3 origin, vec3 dir, float tMax, bool anyHit, out BvhTraversal t) {
+// Starts the traversal of origin + t dir for hits with 0 < t < tMax at the root node (the
+// root's own box is not stored: the first step tests its children's).
+void bvhBegin(vec3 origin, vec3 dir, float tMax, bool anyHit, out BvhTraversal t) {
     t.origin = origin;
     t.dir = dir;
     t.invDir = bvhSafeInverse(dir);
@@ -147,12 +133,53 @@ bool bvhBegin(vec3 origin, vec3 dir, float tMax, bool anyHit, out BvhTraversal t
     t.top7 = 0u;
     t.anyHit = anyHit;
     t.found = false;
-    uvec4 rootLo = bvhTexel(0u);
-    uvec4 rootHi = bvhTexel(1u);
-    t.ref = bvhNodeRef(rootLo, rootHi);
-    float tEntry;
-    return bvhIntersectBox(uintBitsToFloat(rootLo.xyz), uintBitsToFloat(rootHi.xyz), origin,
-                           t.invDir, tMax, tEntry);
+    t.ref = 0u;  // wide node 0
+}
+
+// k == 0 ? a0 : k == 1 ? a1 : k == 2 ? a2 : a3.
+uint bvhPick(uint k, uint a0, uint a1, uint a2, uint a3) {
+    return k == 0u ? a0 : (k == 1u ? a1 : (k == 2u ? a2 : a3));
+}
+
+// Pushes the first k of far, middle, near (k <= 3, in that order, so near ends on top). The
+// entries that leave the eight registers are stored by one store in a loop, not one per push:
+// on lavapipe every shared-memory access is a loop over the lanes that runs whether or not a
+// lane stores, so each access in the step costs every step.
+void bvhPush(inout BvhTraversal t, uint k, uint far, uint middle, uint near) {
+    uint s = t.stackSize;
+    if (s + k > BVH_STACK_SIZE) {
+        return;  // never: the stack bound (top of this file) keeps s + k <= BVH_STACK_SIZE
+    }
+    // Registers top_i with i in [8 - k, 7] and i < s leave for memory, deepest first; the
+    // entry at depth d (0 = the bottom of the stack) is stored at bvhStackSpill(d).
+    uint inRegisters = min(s, 8u);
+    uint leaving = inRegisters + k > 8u ? inRegisters + k - 8u : 0u;
+    uint deepest = inRegisters - 1u;  // top_i of the first to leave
+    uint depth = s - inRegisters;     // its depth
+    for (uint j = 0u; j < leaving; ++j) {
+        uint i = deepest - j;
+        bvhStackSpill(depth + j) = i == 7u ? t.top7 : (i == 6u ? t.top6 : t.top5);
+    }
+    t.top7 = bvhPick(k, t.top7, t.top6, t.top5, t.top4);
+    t.top6 = bvhPick(k, t.top6, t.top5, t.top4, t.top3);
+    t.top5 = bvhPick(k, t.top5, t.top4, t.top3, t.top2);
+    t.top4 = bvhPick(k, t.top4, t.top3, t.top2, t.top1);
+    t.top3 = bvhPick(k, t.top3, t.top2, t.top1, t.top0);
+    t.top2 = bvhPick(k, t.top2, t.top1, t.top0, far);
+    t.top1 = bvhPick(k, t.top1, t.top0, middle, middle);
+    t.top0 = bvhPick(k, t.top0, near, near, near);
+    t.stackSize = s + k;
+}
+
+// One compare-exchange of a sorting network on (entry distance, ref) pairs.
+void bvhSortPair(inout float ta, inout uint ra, inout float tb, inout uint rb) {
+    bool swap = tb < ta;
+    float t = ta;
+    uint r = ra;
+    ta = swap ? tb : ta;
+    ra = swap ? rb : ra;
+    tb = swap ? t : tb;
+    rb = swap ? r : rb;
 }
 
 // One step of traversal t. Returns false when the traversal has ended (t.found and t.hit are
@@ -160,58 +187,68 @@ bool bvhBegin(vec3 origin, vec3 dir, float tMax, bool anyHit, out BvhTraversal t
 bool bvhStep(inout BvhTraversal t) {
     uint count = t.ref & 7u;
     uint address = t.ref >> 3;
+    bool leaf = count > 0u;
 #ifdef BVH_COUNT_STEPS
-    if (count > 0u) {
+    if (leaf) {
         ++bvhTriangleSteps;
     } else {
         ++bvhInteriorSteps;
     }
 #endif
-    // The same four fetches in every lane: two child records, or a triangle (the fourth
-    // fetch repeats its first texel, so it never reads past the last triangle).
+    // The same seven fetches in every lane: a wide node, or a leaf's next two triangles (with
+    // one triangle left, the second three fetches repeat it, so none reads past the last).
+    bool one = leaf && count < 2u;
     uvec4 w0 = bvhTexel(address);
     uvec4 w1 = bvhTexel(address + 1u);
     uvec4 w2 = bvhTexel(address + 2u);
-    uvec4 w3 = bvhTexel(count > 0u ? address : address + 3u);
-    bool next = false;  // t.ref is set to the next node or triangle
-    if (count > 0u) {
+    uvec4 w3 = bvhTexel(one ? address : address + 3u);
+    uvec4 w4 = bvhTexel(one ? address + 1u : address + 4u);
+    uvec4 w5 = bvhTexel(one ? address + 2u : address + 5u);
+    uvec4 w6 = bvhTexel(leaf ? address : address + 6u);
+    bool next = false;  // t.ref is set to the next node or triangles
+    if (leaf) {
         if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1), uintBitsToFloat(w2),
                                  t.origin, t.dir, t.hit)) {
             t.found = true;
         }
-        if (count > 1u) {
-            t.ref = ((address + 3u) << 3) | (count - 1u);
+        if (!one && bvhIntersectTriangle(uintBitsToFloat(w3), uintBitsToFloat(w4),
+                                         uintBitsToFloat(w5), t.origin, t.dir, t.hit)) {
+            t.found = true;
+        }
+        if (count > 2u) {
+            t.ref = ((address + 6u) << 3) | (count - 2u);
             next = true;
         }
     } else {
-        float tLeft;
-        float tRight;
-        bool hitLeft = bvhIntersectBox(uintBitsToFloat(w0.xyz), uintBitsToFloat(w1.xyz),
-                                       t.origin, t.invDir, t.hit.t, tLeft);
-        bool hitRight = bvhIntersectBox(uintBitsToFloat(w2.xyz), uintBitsToFloat(w3.xyz),
-                                        t.origin, t.invDir, t.hit.t, tRight);
-        uint leftRef = bvhNodeRef(w0, w1);
-        uint rightRef = bvhNodeRef(w2, w3);
-        if (hitLeft && hitRight) {
-            bool leftFirst = tLeft <= tRight;
-            if (t.stackSize < BVH_MAX_DEPTH) {
-                if (t.stackSize >= 8u) {
-                    bvhStackSpill(t.stackSize - 8u) = t.top7;
-                }
-                t.top7 = t.top6;
-                t.top6 = t.top5;
-                t.top5 = t.top4;
-                t.top4 = t.top3;
-                t.top3 = t.top2;
-                t.top2 = t.top1;
-                t.top1 = t.top0;
-                t.top0 = leftFirst ? rightRef : leftRef;
-                ++t.stackSize;
-            }
-            t.ref = leftFirst ? leftRef : rightRef;
-            next = true;
-        } else if (hitLeft || hitRight) {
-            t.ref = hitLeft ? leftRef : rightRef;
+        // Slab tests (Kay & Kajiya 1986) of the four boxes against [0, hit.t], the exit
+        // distances scaled by 1 + 2 gamma(3) (pbrt-v4 Bounds3::IntersectP).
+        vec3 o = t.origin;
+        vec3 inv = t.invDir;
+        vec4 x0 = (uintBitsToFloat(w0) - o.x) * inv.x;
+        vec4 y0 = (uintBitsToFloat(w1) - o.y) * inv.y;
+        vec4 z0 = (uintBitsToFloat(w2) - o.z) * inv.z;
+        vec4 x1 = (uintBitsToFloat(w3) - o.x) * inv.x;
+        vec4 y1 = (uintBitsToFloat(w4) - o.y) * inv.y;
+        vec4 z1 = (uintBitsToFloat(w5) - o.z) * inv.z;
+        vec4 tNear = max(max(min(x0, x1), min(y0, y1)), max(min(z0, z1), vec4(0.0)));
+        vec4 tFar = min(min(max(x0, x1), max(y0, y1)), max(z0, z1)) * BVH_BOX_EXIT_SCALE;
+        bvec4 hits = bvec4(uvec4(lessThanEqual(tNear, min(tFar, vec4(t.hit.t)))) &
+                           uvec4(notEqual(w6, uvec4(BVH_EMPTY_CHILD))));
+        // The hit children nearest first (a five-exchange sorting network; misses last).
+        vec4 key = mix(vec4(FLOAT_MAX), tNear, hits);
+        float t0 = key.x, t1 = key.y, t2 = key.z, t3 = key.w;
+        uint r0 = w6.x, r1 = w6.y, r2 = w6.z, r3 = w6.w;
+        bvhSortPair(t0, r0, t1, r1);
+        bvhSortPair(t2, r2, t3, r3);
+        bvhSortPair(t0, r0, t2, r2);
+        bvhSortPair(t1, r1, t3, r3);
+        bvhSortPair(t1, r1, t2, r2);
+        uint hitCount = uint(hits.x) + uint(hits.y) + uint(hits.z) + uint(hits.w);
+        // Descend into the nearest; push the others farthest first, so that the nearer pop
+        // first.
+        bvhPush(t, hitCount > 0u ? hitCount - 1u : 0u, r3, r2, r1);
+        if (hitCount >= 1u) {
+            t.ref = r0;
             next = true;
         }
     }
@@ -243,16 +280,15 @@ bool bvhStep(inout BvhTraversal t) {
     return true;
 }
 
-// The whole traversal of one ray. Each step visits one interior node or one triangle and none
+// The whole traversal of one ray. Each step visits one wide node or two triangles and none
 // twice, so the loop runs fewer than textureSize(bvhTexels) times.
 bool bvhTraverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     BvhTraversal t;
-    if (bvhBegin(origin, dir, tMax, anyHit, t)) {
-        uint texelCount = uint(textureSize(bvhTexels));
-        for (uint step = 0u; step < texelCount; ++step) {
-            if (!bvhStep(t)) {
-                break;
-            }
+    bvhBegin(origin, dir, tMax, anyHit, t);
+    uint texelCount = uint(textureSize(bvhTexels));
+    for (uint step = 0u; step < texelCount; ++step) {
+        if (!bvhStep(t)) {
+            break;
         }
     }
     hit = t.hit;

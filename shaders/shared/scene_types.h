@@ -35,9 +35,9 @@ struct IsectTriangle {
 };
 PMCR_CHECK_SIZE(IsectTriangle, 48);
 
-// Flattened binary BVH (host/scene/bvh.h). Node 0 is the root. Interior (count == 0): children
-// are nodes leftOrFirst and leftOrFirst + 1, so one fetch of 64 bytes reads both child boxes.
-// Leaf (count > 0): IsectTriangles [leftOrFirst, leftOrFirst + count).
+// Flattened binary BVH (host/scene/bvh.h), as the host's traversal reads it; the kernels read
+// its 4-wide form (below). Node 0 is the root. Interior (count == 0): children are nodes
+// leftOrFirst and leftOrFirst + 1. Leaf (count > 0): IsectTriangles [leftOrFirst, leftOrFirst + count).
 struct BvhNode {
     vec3 boundsMin;
     uint leftOrFirst;
@@ -46,23 +46,33 @@ struct BvhNode {
 };
 PMCR_CHECK_SIZE(BvhNode, 32);
 
-// The kernels read the BVH as one texel buffer of uvec4 (Bvh::deviceTexels, BINDING_BVH):
-//   node i:     texel 2i     = (boundsMin bits, ref), texel 2i + 1 = (boundsMax bits, count),
-//               ref = texel address of child leftOrFirst's record (2 * leftOrFirst) when
-//               count == 0, else of triangle leftOrFirst;
-//   triangle j: texels 2 * nodeCount + 3j + {0, 1, 2} = IsectTriangle j's v0, e1, e2.
+// The kernels read the BVH as one texel buffer of uvec4 (Bvh::deviceTexels, BINDING_BVH), the
+// binary tree collapsed to 4-wide nodes (each binary interior node with its two children
+// opened; Wald et al. 2008, "Getting Rid of Packets", builds 4-wide trees that way):
+//   wide node k: texels BVH_NODE_TEXELS k + {0..6}: the bounds of its four children as
+//                structure of arrays, minimum x, y, z then maximum x, y, z (child c in
+//                component c), then the children's refs: texel address << 3 | count, where
+//                count == 0 is a wide node and 1..BVH_MAX_LEAF_TRIANGLES a leaf's triangles,
+//                or BVH_EMPTY_CHILD for an unused slot. Wide node 0 (address 0) is the root.
+//   triangle j:  texels BVH_NODE_TEXELS * wideNodeCount + 3j + {0, 1, 2} = IsectTriangle j's
+//                v0, e1, e2.
 // A texel fetch is a vector gather on lavapipe, where SSBO loads with per-lane addresses loop
-// over the lanes (shaders/common/bvh.glsl). Addresses stay below BVH_MAX_TEXELS so that the
-// traversal can pack address * 8 + count into one uint.
+// over the lanes (shaders/common/bvh.glsl). Addresses stay below BVH_MAX_TEXELS so that a ref
+// packs address and count into one uint.
 PMCR_CONST uint BVH_MAX_TEXELS = 1u << 29;
+PMCR_CONST uint BVH_WIDTH = 4;
+PMCR_CONST uint BVH_NODE_TEXELS = 7;
+PMCR_CONST uint BVH_EMPTY_CHILD = 0xFFFFFFFFu;
 
 // Build limits. Leaves hold at most BVH_MAX_LEAF_TRIANGLES; the root has depth 0 and every
-// leaf has depth <= BVH_MAX_DEPTH. Near-child-first traversal pushes at most one sibling per
-// level, so a stack of BVH_MAX_DEPTH entries never overflows (shaders/common/bvh.glsl).
-PMCR_CONST uint BVH_MAX_DEPTH = 64;
+// leaf of the binary tree has depth <= BVH_MAX_DEPTH, so below at most BVH_MAX_DEPTH / 2 wide
+// nodes. Near-child-first traversal pushes at most three children per wide node it enters,
+// so a stack of BVH_STACK_SIZE entries never overflows (shaders/common/bvh.glsl). 48 is far
+// above what 4-triangle leaves need (log2 of BVH_MAX_TEXELS / 12 is 25) and keeps the stack in
+// Vulkan's minimum of shared memory.
+PMCR_CONST uint BVH_MAX_DEPTH = 48;
 PMCR_CONST uint BVH_MAX_LEAF_TRIANGLES = 4;
-// Ray/box exit distances are scaled by 1 + 2 gamma(3) (pbrt-v4 section 6.8.7, Bounds3::IntersectP)
-// so that rounding never culls a box the ray actually crosses.
+PMCR_CONST uint BVH_STACK_SIZE = 3 * (BVH_MAX_DEPTH / 2);
 PMCR_CONST float BVH_BOX_EXIT_SCALE = 1.00000036f;
 // Direction components smaller than this in magnitude are replaced by +-BVH_MIN_DIRECTION
 // before taking the reciprocal, so slab distances are finite and never 0 * inf = NaN.

@@ -1,10 +1,13 @@
 // shaders/common/bvh.glsl against the host's scalar traversal (Bvh::traceClosest, traceAny),
 // which tests/host/test_bvh.cpp checks against brute force: the same rays, traced through the
-// same flattened BVH by shaders/tests/bvh_trace_test.comp, must give the same closest hits and
-// the same occlusion answers. The GLSL uses the same intersection arithmetic and traversal
-// order as the C++, but the device compiler may contract or reorder float operations, so a hit
+// same tree (the host's binary nodes, the kernels' 4-wide form of them) by
+// shaders/tests/bvh_trace_test.comp, must give the same closest hits and the same occlusion
+// answers. The GLSL uses the same intersection arithmetic as the C++, but visits triangles in
+// another order and the device compiler may contract or reorder float operations, so a hit
 // counts as the same when it names the same triangle, or (at a shared edge) both hit at the
-// same distance.
+// same distance. Every ray must agree. The dragon's deep traversals store entries of the stack
+// beyond its eight registers, several in one step (bvhPush), which these tests would catch
+// losing one.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -324,29 +324,78 @@ TEST(Bvh, SphereMatchesBruteForce) {
     expectBvhCorrect(mesh, 5000, 3);
 }
 
-// deviceTexels: the kernels' serialization of the same nodes and triangles
-// (shared/scene_types.h): node records with texel addresses in place of node and triangle
-// indices, then the triangles, three texels each, bit for bit.
-TEST(Bvh, DeviceTexelsSerializeNodesAndTriangles) {
-    const Mesh mesh = randomSoup(300, 5);
-    const Bvh bvh = Bvh::build(mesh.vertices, mesh.triangles, "test");
+// deviceTexels: the kernels' serialization (shared/scene_types.h) of the binary tree collapsed
+// to 4-wide nodes. Walks the binary tree and the wide nodes together: each wide node holds the
+// grandchildren of its binary node (a child itself where that is a leaf), with their bounds bit
+// for bit, refs to their wide nodes or triangles, unused slots empty; every wide node is
+// reached once, the triangles follow bit for bit, and leaves lie below ceil(depth / 2) wide
+// nodes (the traversal's stack bound, BVH_STACK_SIZE). Returns the most wide nodes above a leaf.
+uint32_t expectWideTexels(const Bvh& bvh) {
     const std::vector<glm::uvec4> texels = bvh.deviceTexels();
-    const size_t nodeCount = bvh.nodes().size();
-    const size_t triangleBase = 2 * nodeCount;
-    ASSERT_EQ(texels.size(), triangleBase + 3 * bvh.triangles().size());
-    for (size_t i = 0; i < nodeCount; ++i) {
-        const gpu::BvhNode& n = bvh.nodes()[i];
-        EXPECT_EQ(glm::uvec3(texels[2 * i]), std::bit_cast<glm::uvec3>(n.boundsMin));
-        EXPECT_EQ(glm::uvec3(texels[2 * i + 1]), std::bit_cast<glm::uvec3>(n.boundsMax));
-        EXPECT_EQ(texels[2 * i + 1].w, n.count);
-        const size_t ref = n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst}
-                                       : 2 * size_t{n.leftOrFirst};
-        EXPECT_EQ(texels[2 * i].w, ref) << "node " << i;
-    }
+    const std::vector<gpu::BvhNode>& nodes = bvh.nodes();
+    const size_t triangleBase = texels.size() - 3 * bvh.triangles().size();
+    EXPECT_EQ(triangleBase % gpu::BVH_NODE_TEXELS, 0u);
+    std::vector<int> reached(triangleBase / gpu::BVH_NODE_TEXELS, 0);
+    uint32_t wideDepth = 0;
+    // The wide node at `address` for binary node `node`, `above` wide nodes above it.
+    auto walk = [&](auto&& self, size_t address, uint32_t node, uint32_t above) -> void {
+        ASSERT_EQ(address % gpu::BVH_NODE_TEXELS, 0u);
+        ASSERT_LT(address, triangleBase);
+        ++reached[address / gpu::BVH_NODE_TEXELS];
+        std::vector<uint32_t> kids;
+        const gpu::BvhNode& n = nodes[node];
+        if (n.count > 0) {
+            kids.push_back(node);
+        } else {
+            for (const uint32_t c : {n.leftOrFirst, n.leftOrFirst + 1}) {
+                if (nodes[c].count > 0) {
+                    kids.push_back(c);
+                } else {
+                    kids.push_back(nodes[c].leftOrFirst);
+                    kids.push_back(nodes[c].leftOrFirst + 1);
+                }
+            }
+        }
+        for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
+            const uint32_t ref = texels[address + 6][k];
+            if (k >= kids.size()) {
+                EXPECT_EQ(ref, gpu::BVH_EMPTY_CHILD) << "address " << address << " slot " << k;
+                continue;
+            }
+            const gpu::BvhNode& c = nodes[kids[k]];
+            for (int axis = 0; axis < 3; ++axis) {
+                EXPECT_EQ(texels[address + axis][k], std::bit_cast<uint32_t>(c.boundsMin[axis]));
+                EXPECT_EQ(texels[address + 3 + axis][k], std::bit_cast<uint32_t>(c.boundsMax[axis]));
+            }
+            EXPECT_EQ(ref & 7u, c.count);
+            if (c.count > 0) {
+                EXPECT_EQ(ref >> 3, triangleBase + 3 * size_t{c.leftOrFirst});
+                wideDepth = std::max(wideDepth, above + 1);
+            } else {
+                self(self, ref >> 3, kids[k], above + 1);
+            }
+        }
+    };
+    walk(walk, 0, 0, 0);
+    for (size_t w = 0; w < reached.size(); ++w) EXPECT_EQ(reached[w], 1) << "wide node " << w;
     for (size_t i = 0; i < bvh.triangles().size(); ++i) {
         const gpu::IsectTriangle& t = bvh.triangles()[i];
         EXPECT_EQ(std::memcmp(&texels[triangleBase + 3 * i], &t, sizeof(t)), 0) << "triangle " << i;
     }
+    EXPECT_EQ(wideDepth, (bvh.depth() + 1) / 2 + (bvh.depth() == 0 ? 1 : 0));
+    EXPECT_LE(wideDepth, gpu::BVH_MAX_DEPTH / 2);
+    return wideDepth;
+}
+
+TEST(Bvh, DeviceTexelsSerializeTheWideTree) {
+    const Mesh mesh = randomSoup(300, 5);
+    expectWideTexels(Bvh::build(mesh.vertices, mesh.triangles, "test"));
+    // Odd and even binary depths, and a single leaf (the wide root's one child).
+    const Mesh soup = randomSoup(1500, 21);
+    EXPECT_EQ(expectWideTexels(Bvh::build(soup.vertices, soup.triangles, "soup", 11)), 6u);
+    EXPECT_EQ(expectWideTexels(Bvh::build(soup.vertices, soup.triangles, "soup", 10)), 5u);
+    const Mesh one = randomSoup(1, 3);
+    EXPECT_EQ(expectWideTexels(Bvh::build(one.vertices, one.triangles, "one")), 1u);
 }
 
 TEST(Bvh, GridMatchesBruteForce) {
