@@ -64,8 +64,9 @@ const char* const kUsage =
     "                        scene, triangles, {gpu,embree}_{primary,bounce,shadow}_mrays,\n"
     "                        cpu_{primary,bounce}_mrays, pt_msamples (Embree keys null\n"
     "                        without Embree)\n"
-    "  --steps               also print the kernel's traversal steps per ray (interior nodes,\n"
-    "                        triangles) and the share of an 8-lane vector's steps that do work\n"
+    "  --steps               also print the kernel's traversal steps per ray (wide nodes, leaf\n"
+    "                        steps of two triangles) and the share of an 8-lane vector's steps\n"
+    "                        that do work\n"
     "                        (the loop runs until its slowest lane is done), and the GPU's\n"
     "                        Mrays/s on the same rays sorted by their steps (lanes kept busy)\n"
     "  --rays-per-invocation P  trace P rays in turn per invocation, a lane starting its next\n"
@@ -276,8 +277,8 @@ double laneEfficiency(const std::vector<uint32_t>& steps, const std::vector<size
     return vector > 0.0 ? lane / vector : 1.0;
 }
 
-// What the kernel's traversal loop does per ray (trace_rays_steps.comp): interior-node and
-// triangle steps, on average, and per ray in all.
+// What the kernel's traversal loop does per ray (trace_rays_steps.comp): wide-node and leaf
+// steps, on average, and per ray in all.
 struct StepCounts {
     double interior = 0.0, triangle = 0.0;
     std::vector<uint32_t> steps;
@@ -478,7 +479,7 @@ int main(int argc, char** argv) {
                     const double full = t.seconds > 0.0 ? double(sorted.size()) / t.seconds * 1e-6 : 0.0;
                     char ratio[16] = "-";
                     if (haveEmbree) std::snprintf(ratio, sizeof ratio, "%.2fx", full / rows[k].r.embree);
-                    std::printf("%-20s %9s | %-8s steps/ray %.1f interior + %.1f triangle; 8-lane "
+                    std::printf("%-20s %9s | %-8s steps/ray %.1f node + %.1f leaf; 8-lane "
                                 "efficiency %.2f; sorted by steps: %.2f, %.2f Mrays/s (%s Embree)\n", "", "",
                                 rows[k].name, c.interior, c.triangle, efficiency,
                                 laneEfficiency(c.steps, order), full, ratio);

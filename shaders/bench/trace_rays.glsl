@@ -18,8 +18,8 @@ layout(push_constant, scalar) uniform Push {
 
 void startRay(uint i, out BvhTraversal t) {
 #ifdef BVH_COUNT_STEPS
-    bvhInteriorSteps = 0u;
-    bvhTriangleSteps = 0u;
+    bvhNodeSteps = 0u;
+    bvhLeafSteps = 0u;
 #endif
     BvhQuery q = queries[i];
     bvhBegin(q.origin, q.direction, q.tMax, push.anyHit != 0u, t);
@@ -31,8 +31,8 @@ void finishRay(uint i, BvhTraversal t) {
         hit = Hit(t.found ? 0.0 : t.hit.t, 0u, 0.0, 0.0);
     }
 #ifdef BVH_COUNT_STEPS
-    hit.b1 = uintBitsToFloat(bvhInteriorSteps);
-    hit.b2 = uintBitsToFloat(bvhTriangleSteps);
+    hit.b1 = uintBitsToFloat(bvhNodeSteps);
+    hit.b2 = uintBitsToFloat(bvhLeafSteps);
 #endif
     hits[i] = hit;
 }

@@ -34,8 +34,8 @@ uvec4 bvhTexel(uint i) { return texelFetch(bvhTexels, int(i)); }
 
 #ifdef BVH_COUNT_STEPS
 // Diagnostics only (shaders/bench/trace_rays_steps.comp): the steps of the last traversal.
-uint bvhInteriorSteps = 0u;
-uint bvhTriangleSteps = 0u;
+uint bvhNodeSteps = 0u;
+uint bvhLeafSteps = 0u;
 #endif
 
 // Reciprocal direction with tiny components clamped to +-BVH_MIN_DIRECTION (-0 taken as +).
@@ -141,10 +141,10 @@ uint bvhPick(uint k, uint a0, uint a1, uint a2, uint a3) {
     return k == 0u ? a0 : (k == 1u ? a1 : (k == 2u ? a2 : a3));
 }
 
-// Pushes the first k of far, middle, near (k <= 3, in that order, so near ends on top). The
-// entries that leave the eight registers are stored by one store in a loop, not one per push:
-// on lavapipe every shared-memory access is a loop over the lanes that runs whether or not a
-// lane stores, so each access in the step costs every step.
+// Pushes the last k of far, middle, near (k <= 3), in that order, so that near ends on top.
+// The entries that leave the eight registers are stored from one site in a loop, not one per
+// pushed child: on lavapipe each shared-memory access site is a loop over the lanes that runs
+// every step, whether or not a lane stores (docs/benchmarks.md, writing kernels for lavapipe).
 void bvhPush(inout BvhTraversal t, uint k, uint far, uint middle, uint near) {
     uint s = t.stackSize;
     if (s + k > BVH_STACK_SIZE) {
@@ -190,9 +190,9 @@ bool bvhStep(inout BvhTraversal t) {
     bool leaf = count > 0u;
 #ifdef BVH_COUNT_STEPS
     if (leaf) {
-        ++bvhTriangleSteps;
+        ++bvhLeafSteps;
     } else {
-        ++bvhInteriorSteps;
+        ++bvhNodeSteps;
     }
 #endif
     // The same seven fetches in every lane: a wide node, or a leaf's next two triangles (with
@@ -234,8 +234,9 @@ bool bvhStep(inout BvhTraversal t) {
         vec4 tFar = min(min(max(x0, x1), max(y0, y1)), max(z0, z1)) * BVH_BOX_EXIT_SCALE;
         bvec4 hits = bvec4(uvec4(lessThanEqual(tNear, min(tFar, vec4(t.hit.t)))) &
                            uvec4(notEqual(w6, uvec4(BVH_EMPTY_CHILD))));
-        // The hit children nearest first (a five-exchange sorting network; misses last).
-        vec4 key = mix(vec4(FLOAT_MAX), tNear, hits);
+        // The hit children nearest first (a five-exchange sorting network). Misses sort last:
+        // their key is above every hit's, which is at most hit.t <= FLOAT_MAX, clamped below.
+        vec4 key = mix(vec4(FLOAT_MAX), min(tNear, vec4(1e38)), hits);
         float t0 = key.x, t1 = key.y, t2 = key.z, t3 = key.w;
         uint r0 = w6.x, r1 = w6.y, r2 = w6.z, r3 = w6.w;
         bvhSortPair(t0, r0, t1, r1);
