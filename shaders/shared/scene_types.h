@@ -48,7 +48,7 @@ PMCR_CHECK_SIZE(BvhNode, 32);
 
 // The kernels read the BVH as one texel buffer of uvec4 (Bvh::deviceTexels, BINDING_BVH), the
 // binary tree collapsed to 4-wide nodes (each binary interior node with its two children
-// opened; Wald et al. 2008, "Getting Rid of Packets", builds 4-wide trees that way):
+// opened: two SAH splits per node, as Dammertz et al. 2008 build their 4-wide QBVH):
 //   wide node k: texels BVH_NODE_TEXELS k + {0..6}: the bounds of its four children as
 //                structure of arrays, minimum x, y, z then maximum x, y, z (child c in
 //                component c), then the children's refs: texel address << 3 | count, where
@@ -68,11 +68,13 @@ PMCR_CONST uint BVH_EMPTY_CHILD = 0xFFFFFFFFu;
 // leaf of the binary tree has depth <= BVH_MAX_DEPTH, so below at most BVH_MAX_DEPTH / 2 wide
 // nodes. Near-child-first traversal pushes at most three children per wide node it enters,
 // so a stack of BVH_STACK_SIZE entries never overflows (shaders/common/bvh.glsl). 48 is far
-// above what 4-triangle leaves need (log2 of BVH_MAX_TEXELS / 12 is 25) and keeps the stack in
-// Vulkan's minimum of shared memory.
+// above the 26 levels that 4-triangle leaves need for the most triangles the texel addresses
+// allow (BVH_MAX_TEXELS / 3), and keeps the stack in Vulkan's minimum of shared memory.
 PMCR_CONST uint BVH_MAX_DEPTH = 48;
 PMCR_CONST uint BVH_MAX_LEAF_TRIANGLES = 4;
 PMCR_CONST uint BVH_STACK_SIZE = 3 * (BVH_MAX_DEPTH / 2);
+// Ray/box exit distances are scaled by 1 + 2 gamma(3) (pbrt-v4 section 6.8.7, Bounds3::IntersectP)
+// so that rounding never culls a box the ray actually crosses.
 PMCR_CONST float BVH_BOX_EXIT_SCALE = 1.00000036f;
 // Direction components smaller than this in magnitude are replaced by +-BVH_MIN_DIRECTION
 // before taking the reciprocal, so slab distances are finite and never 0 * inf = NaN.
