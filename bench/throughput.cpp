@@ -280,7 +280,7 @@ double laneEfficiency(const std::vector<uint32_t>& steps, const std::vector<size
 // What the kernel's traversal loop does per ray (trace_rays_steps.comp): wide-node and leaf
 // steps, on average, and per ray in all.
 struct StepCounts {
-    double interior = 0.0, triangle = 0.0;
+    double node = 0.0, leaf = 0.0;
     std::vector<uint32_t> steps;
 };
 StepCounts countSteps(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
@@ -288,14 +288,14 @@ StepCounts countSteps(vk::Context& context, const vk::PipelineLayout& layout, co
     const Timing t = traceGpu(context, layout, scene, rays, anyHit, 1, 1, "bench/trace_rays_steps");
     StepCounts c;
     for (size_t i = 0; i < rays.size(); ++i) {
-        const uint32_t interior = std::bit_cast<uint32_t>(t.hits[i].b1);
-        const uint32_t triangle = std::bit_cast<uint32_t>(t.hits[i].b2);
-        c.interior += interior;
-        c.triangle += triangle;
-        c.steps.push_back(interior + triangle);
+        const uint32_t node = std::bit_cast<uint32_t>(t.hits[i].b1);
+        const uint32_t leaf = std::bit_cast<uint32_t>(t.hits[i].b2);
+        c.node += node;
+        c.leaf += leaf;
+        c.steps.push_back(node + leaf);
     }
-    c.interior /= double(std::max<size_t>(1, rays.size()));
-    c.triangle /= double(std::max<size_t>(1, rays.size()));
+    c.node /= double(std::max<size_t>(1, rays.size()));
+    c.leaf /= double(std::max<size_t>(1, rays.size()));
     return c;
 }
 
@@ -481,7 +481,7 @@ int main(int argc, char** argv) {
                     if (haveEmbree) std::snprintf(ratio, sizeof ratio, "%.2fx", full / rows[k].r.embree);
                     std::printf("%-20s %9s | %-8s steps/ray %.1f node + %.1f leaf; 8-lane "
                                 "efficiency %.2f; sorted by steps: %.2f, %.2f Mrays/s (%s Embree)\n", "", "",
-                                rows[k].name, c.interior, c.triangle, efficiency,
+                                rows[k].name, c.node, c.leaf, efficiency,
                                 laneEfficiency(c.steps, order), full, ratio);
                 }
             }

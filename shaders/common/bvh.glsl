@@ -88,8 +88,10 @@ bool bvhIntersectTriangle(vec4 v0, vec4 e1, vec4 e2, vec3 origin, vec3 dir, inou
 // with a shared array than with a private one doing the same accesses (three paired runs of
 // bench/throughput, issue 20; images the same bit for bit), while the bench's traversal-only
 // kernel runs as fast with either.
-shared uint bvhStackSpillShared[WORKGROUP_SIZE * (BVH_STACK_SIZE - 8u)];
-#define bvhStackSpill(i) bvhStackSpillShared[gl_LocalInvocationIndex * (BVH_STACK_SIZE - 8u) + (i)]
+const uint BVH_REGISTER_ENTRIES = 8u;  // top0..top7 of BvhTraversal
+const uint BVH_SPILL_ENTRIES = BVH_STACK_SIZE - BVH_REGISTER_ENTRIES;
+shared uint bvhStackSpillShared[WORKGROUP_SIZE * BVH_SPILL_ENTRIES];
+#define bvhStackSpill(i) bvhStackSpillShared[gl_LocalInvocationIndex * BVH_SPILL_ENTRIES + (i)]
 
 // A traversal in progress: near-child-first, with anyHit it ends at the first hit. bvhBegin
 // starts one, each bvhStep takes one step (a wide step tests four child boxes, descends into
@@ -152,8 +154,9 @@ void bvhPush(inout BvhTraversal t, uint k, uint far, uint middle, uint near) {
     }
     // Registers top_i with i in [8 - k, 7] and i < s leave for memory, deepest first; the
     // entry at depth d (0 = the bottom of the stack) is stored at bvhStackSpill(d).
-    uint inRegisters = min(s, 8u);
-    uint leaving = inRegisters + k > 8u ? inRegisters + k - 8u : 0u;
+    uint inRegisters = min(s, BVH_REGISTER_ENTRIES);
+    uint leaving = inRegisters + k > BVH_REGISTER_ENTRIES ? inRegisters + k - BVH_REGISTER_ENTRIES
+                                                          : 0u;
     uint deepest = inRegisters - 1u;  // top_i of the first to leave
     uint depth = s - inRegisters;     // its depth
     for (uint j = 0u; j < leaving; ++j) {
@@ -204,7 +207,7 @@ bool bvhStep(inout BvhTraversal t) {
     uvec4 w3 = bvhTexel(one ? address : address + 3u);
     uvec4 w4 = bvhTexel(one ? address + 1u : address + 4u);
     uvec4 w5 = bvhTexel(one ? address + 2u : address + 5u);
-    uvec4 w6 = bvhTexel(leaf ? address : address + 6u);
+    uvec4 w6 = bvhTexel(leaf ? address : address + BVH_NODE_TEXELS - 1u);  // the refs
     bool next = false;  // t.ref is set to the next node or triangles
     if (leaf) {
         if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1), uintBitsToFloat(w2),
@@ -275,8 +278,8 @@ bool bvhStep(inout BvhTraversal t) {
     t.top5 = t.top6;
     t.top6 = t.top7;
     --t.stackSize;
-    if (t.stackSize >= 8u) {
-        t.top7 = bvhStackSpill(t.stackSize - 8u);
+    if (t.stackSize >= BVH_REGISTER_ENTRIES) {
+        t.top7 = bvhStackSpill(t.stackSize - BVH_REGISTER_ENTRIES);
     }
     return true;
 }

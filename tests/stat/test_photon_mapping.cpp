@@ -124,12 +124,13 @@ TEST_F(PhotonMapping, FurnaceDensityEstimateGivesTheAnalyticAnswer) {
     }
 }
 
-// The green channel's sums over the 2 x 2 quadrants of `image` (48 x 48).
+// The green channel's sums over the 2 x 2 quadrants of `image` (even width and height).
 std::array<double, 4> quadrantSums(const Image& image) {
+    const int w = image.width, h = image.height;
     std::array<double, 4> sums{};
-    for (int y = 0; y < 48; ++y)
-        for (int x = 0; x < 48; ++x)
-            sums[(y / 24) * 2 + x / 24] += image.rgb[3 * (size_t(y) * 48 + size_t(x)) + 1];
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            sums[(2 * y / h) * 2 + 2 * x / w] += image.rgb[3 * (size_t(y) * w + size_t(x)) + 1];
     return sums;
 }
 
