@@ -5,7 +5,9 @@
 // answers. The GLSL uses the same intersection arithmetic as the C++, but visits triangles in
 // another order and the device compiler may contract or reorder float operations, so a hit
 // counts as the same when it names the same triangle, or (at a shared edge) both hit at the
-// same distance. Every ray must agree. The dragon's deep traversals store entries of the stack
+// same distance. Every ray must agree, except a rare ray that grazes a triangle within float
+// rounding (grazes(): lavapipe and the host round alike, NVIDIA's compiler fuses multiply-adds
+// and decides two of the dragon's 20000 rays otherwise). The dragon's deep traversals store entries of the stack
 // beyond its eight registers, several in one step (bvhPush), which these tests would catch
 // losing one.
 #include <gtest/gtest.h>
@@ -125,6 +127,31 @@ std::vector<gpu::BvhQuery> randomRays(const Scene& scene, uint32_t count, uint32
     return rays;
 }
 
+// Whether ray q grazes triangle `index`: crosses its plane within float rounding of its edges,
+// where another rounding of the same arithmetic (a compiler that fuses multiply-adds, as
+// NVIDIA's does, where lavapipe and the host do not) may decide hit or miss the other way.
+// The division-free test's numerators are dot products of terms of size |s| |e| (s: origin to
+// v0, e: the longer edge), so in float they are good to about eps |s| |e|; over det = |e1 x e2|
+// cos(ray, normal) that is a barycentric error of eps |s| |e| / det, large for small triangles
+// seen from afar or nearly edge-on. A ray grazes when its barycentric margin (the smallest
+// coordinate, in double precision) is within kGrazingUlps such errors of 0.
+bool grazes(const Scene& scene, const gpu::BvhQuery& q, uint32_t index) {
+    constexpr double kGrazingUlps = 8.0;
+    const gpu::Triangle& tri = scene.triangles[index];
+    const glm::dvec3 v0(scene.vertices[tri.i0].position), v1(scene.vertices[tri.i1].position),
+        v2(scene.vertices[tri.i2].position);
+    const glm::dvec3 o(q.origin), d = glm::normalize(glm::dvec3(q.direction));
+    const glm::dvec3 e1 = v1 - v0, e2 = v2 - v0, p = glm::cross(d, e2), s = o - v0,
+                     r = glm::cross(s, e1);
+    const double det = glm::dot(e1, p);
+    if (det == 0.0) return true;  // edge-on
+    const double u = glm::dot(s, p) / det, v = glm::dot(d, r) / det;
+    const double margin = std::min({u, v, 1.0 - u - v});
+    const double error = std::ldexp(1.0, -24) * glm::length(s) *
+                         std::max(glm::length(e1), glm::length(e2)) / std::abs(det);
+    return std::abs(margin) <= kGrazingUlps * error;
+}
+
 bool sameHit(const gpu::Hit& a, const gpu::Hit& b) {
     if (a.triangle == b.triangle) {
         return a.triangle == gpu::BVH_NO_HIT ||
@@ -152,7 +179,7 @@ protected:
         const auto gpuHits = hits.download<gpu::Hit>(n);
         const auto gpuOccluded = occluded.download<uint32_t>(n);
 
-        uint32_t hitMismatches = 0, anyMismatches = 0, hitCount = 0;
+        uint32_t hitMismatches = 0, anyMismatches = 0, grazingMismatches = 0, hitCount = 0;
         for (uint32_t i = 0; i < n; ++i) {
             gpu::Hit cpu;
             const bool cpuHit = bvh.traceClosest(rays[i].origin, rays[i].direction,
@@ -161,7 +188,17 @@ protected:
             const bool cpuAny = bvh.traceAny(rays[i].origin, rays[i].direction, rays[i].tMax);
             hitCount += cpuHit;
             const gpu::Hit& g = gpuHits[i];
+            bool grazing = false;
             if (!sameHit(cpu, g)) {
+                // The nearer report is a triangle that the other side passed by: allowed only
+                // where the ray grazes it.
+                const bool gpuNearer =
+                    g.triangle != gpu::BVH_NO_HIT && (cpu.triangle == gpu::BVH_NO_HIT || g.t < cpu.t);
+                grazing = grazes(scene, rays[i], gpuNearer ? g.triangle : cpu.triangle);
+            }
+            if (grazing) {
+                ++grazingMismatches;
+            } else if (!sameHit(cpu, g)) {
                 ++hitMismatches;
                 if (hitMismatches <= 5)
                     ADD_FAILURE()
@@ -169,7 +206,7 @@ protected:
                         << ", GPU triangle " << g.triangle << " t " << g.t
                         << (hitMismatches == 5 ? " (further mismatches not listed)" : "");
             }
-            anyMismatches += (gpuOccluded[i] != 0u) != cpuAny;
+            anyMismatches += !grazing && (gpuOccluded[i] != 0u) != cpuAny;
             // On the device itself: any-hit must agree with closest-hit.
             EXPECT_EQ(gpuOccluded[i] != 0u, g.triangle != gpu::BVH_NO_HIT) << "ray " << i;
         }
@@ -178,8 +215,12 @@ protected:
         EXPECT_LT(hitCount, n);
         EXPECT_LE(double(hitMismatches), maxMismatchFraction * n);
         EXPECT_LE(double(anyMismatches), maxMismatchFraction * n);
+        // Grazing rays that another rounding decides otherwise are rare (2 of the dragon's
+        // 20000 rays on an NVIDIA H200, none on lavapipe).
+        EXPECT_LE(grazingMismatches, n / 1000);
         RecordProperty("closest_hit_mismatches", int(hitMismatches));
         RecordProperty("any_hit_mismatches", int(anyMismatches));
+        RecordProperty("grazing_mismatches", int(grazingMismatches));
     }
 };
 

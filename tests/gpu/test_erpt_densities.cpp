@@ -403,7 +403,9 @@ TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
             EXPECT_NEAR(ratio, 1.0, 0.02) << "reconnectionFactor / |cos_s|, path " << j;
         }
         // Through a glass sphere the float noise of single differences reaches a few tenths of a
-        // percent: only paths whose two estimates agree within 0.3% are compared.
+        // percent: only paths whose two estimates agree within 0.3% are compared. The float
+        // rounding of the chain's own Jacobian takes the worst ratio to 1.9% on lavapipe and
+        // 2.6% on an NVIDIA H200 (whose compiler fuses multiply-adds), hence 3%.
         if (a.causticValid && b.causticValid && b.cosS12 > 0.05 &&
             agree(a.causticFd, b.causticFd, 0.003)) {
             ++causticChecked;
@@ -411,7 +413,7 @@ TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
                 ++causticChainChecked;
             const double ratio = b.causticGamma / b.cosS12 / b.causticFd;
             worstCaustic = std::max(worstCaustic, std::abs(ratio - 1.0));
-            EXPECT_NEAR(ratio, 1.0, 0.025)
+            EXPECT_NEAR(ratio, 1.0, 0.03)
                 << "causticGamma / |cos_s(x1 -> x2)|, path " << j << " (head " << paths[j].head
                 << " of " << paths[j].vertices.size() << ")";
         }

@@ -1,5 +1,7 @@
 // Path records (shared/path_types.h), written by the pt_record kernel for ERPT and PMC-ER:
-// recording must not change the estimate (same film, bit for bit, as pt), and each record must
+// recording must not change the estimate (the same film as pt up to float rounding: bit for bit
+// on lavapipe, while a GPU's compiler may fuse multiply-adds differently in the two kernels, 1
+// ulp apart on an NVIDIA H200; sameEstimate), and each record must
 // describe its sample: vertices on their triangles, contributions summing to the radiance,
 // light connections on emitters, specular flags only on delta materials.
 #include <gtest/gtest.h>
@@ -18,6 +20,18 @@ namespace pmcr::test {
 namespace {
 
 class PathRecords : public GpuTest {};
+
+// pt's and pt_record's estimates of one sample agree up to float rounding (a few ulps); a lost
+// or doubled contribution is orders of magnitude more.
+::testing::AssertionResult sameEstimate(const glm::vec3& plain, const glm::vec3& recorded) {
+    for (int c = 0; c < 3; ++c) {
+        const float scale = std::max(std::abs(plain[c]), std::abs(recorded[c]));
+        if (std::abs(plain[c] - recorded[c]) > 1e-6f * scale)
+            return ::testing::AssertionFailure()
+                   << "pt " << plain[c] << ", pt_record " << recorded[c] << " (component " << c << ")";
+    }
+    return ::testing::AssertionSuccess();
+}
 
 // Distance from p to the plane of triangle t, and whether p is inside it (with slack).
 bool onTriangle(const Scene& scene, uint32_t tri, const glm::vec3& p) {
@@ -72,7 +86,7 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
     auto plain = renderWith(pt);
     auto recorded = renderWith(ptRecord);
     for (uint32_t i = 0; i < pixels; ++i) {
-        ASSERT_EQ(plain[i].sum, recorded[i].sum) << "pixel " << i;
+        ASSERT_TRUE(sameEstimate(plain[i].sum, recorded[i].sum)) << "pixel " << i;
         ASSERT_EQ(plain[i].sampleCount, recorded[i].sampleCount);
     }
 
@@ -132,7 +146,7 @@ TEST_F(PathRecords, RecordingKeepsTheEstimateAndDescribesEachSample) {
 }
 
 // With punctual lights and an environment (the _all_lights kernels): recording still keeps the
-// estimate bit for bit, light samples of every kind are recorded (a punctual light's index, the
+// estimate (sameEstimate), light samples of every kind are recorded (a punctual light's index, the
 // environment's direction), rays that escape to the environment end the record with one vertex
 // that is not a surface (shared/path_types.h), and the contributions still sum to the radiance.
 TEST_F(PathRecords, OtherLightsAreRecordedAsSeedPaths) {
@@ -179,7 +193,8 @@ TEST_F(PathRecords, OtherLightsAreRecordedAsSeedPaths) {
     };
     auto plain = renderWith(pt);
     auto recorded = renderWith(ptRecord);
-    for (uint32_t i = 0; i < pixels; ++i) ASSERT_EQ(plain[i].sum, recorded[i].sum) << "pixel " << i;
+    for (uint32_t i = 0; i < pixels; ++i)
+        ASSERT_TRUE(sameEstimate(plain[i].sum, recorded[i].sum)) << "pixel " << i;
 
     auto recs = paths.records().download<gpu::PathRecord>(pixels);
     auto verts = paths.vertices().download<gpu::PathVertex>(pixels * gpu::PATH_MAX_VERTICES);
