@@ -5,7 +5,8 @@
 // are measured in the same run on the same machine.
 //
 //   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N] [--threads T]
-//                         [--cpu-time] [--steps] [--rays-per-invocation P] [--json] [SCENE...]
+//                         [--cpu-time] [--steps] [--fetch-ceiling] [--rays-per-invocation P]
+//                         [--json] [SCENE...]
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -40,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kUsage =
     "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N]\n"
-    "                             [--threads T] [--cpu-time] [--steps]\n"
+    "                             [--threads T] [--cpu-time] [--steps] [--fetch-ceiling]\n"
     "                             [--rays-per-invocation P] [--json] SCENE...\n"
     "       (bench/throughput runs it on the default scene and the dragon)\n"
     "\n"
@@ -69,6 +70,10 @@ const char* const kUsage =
     "                        that do work\n"
     "                        (the loop runs until its slowest lane is done), and the GPU's\n"
     "                        Mrays/s on the same rays sorted by their steps (lanes kept busy)\n"
+    "  --fetch-ceiling       --steps, and the Mrays/s of the traversal's texel fetches\n"
+    "                        alone (shaders/bench/fetch_steps.comp: each ray's steps, 7 or 4\n"
+    "                        texels a step, no arithmetic or stack), an upper bound on any\n"
+    "                        traversal that fetches that much per step with lanes as idle\n"
     "  --rays-per-invocation P  trace P rays in turn per invocation, a lane starting its next\n"
     "                        ray when its last ends (1..64, default 1)\n"
     "  --cpu-time            also print Mrays/s per CPU second: the process's CPU time during\n"
@@ -299,6 +304,34 @@ StepCounts countSteps(vk::Context& context, const vk::PipelineLayout& layout, co
     return c;
 }
 
+// Mrays/s of fetch_steps.comp over rays that take `steps` steps each, fetchesPerStep texels a
+// step: the traversal's fetches alone, best of `repeats`.
+double fetchCeiling(vk::Context& context, const vk::PipelineLayout& layout, const GpuScene& scene,
+                    const std::vector<uint32_t>& steps, uint32_t fetchesPerStep, int repeats) {
+    vk::Kernel kernel(layout, "bench/fetch_steps", 0, fetchesPerStep);  // constant 1: kFetchesPerStep
+    auto stepBuffer = vk::Buffer::storage(context, steps, "bench steps");
+    vk::Buffer out(context, std::max<size_t>(16, steps.size() * 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                   "bench fetch results");
+    vk::DescriptorSet work(layout, vk::DescriptorSet::Kind::Work, "bench fetch work");
+    work.bind(0, stepBuffer);
+    work.bind(1, out);
+    struct Push {
+        uint32_t count;
+    };
+    const uint32_t count = uint32_t(steps.size());
+    double best = 1e30;
+    for (int rep = -1; rep < repeats; ++rep) {  // rep -1: the warm-up (lavapipe compiles)
+        auto start = Clock::now();
+        vk::CommandBatch batch(layout);
+        batch.bind(scene.descriptorSet());
+        batch.bind(work);
+        batch.dispatch(kernel, Push{count}, count);
+        batch.submitAndWait();
+        if (rep >= 0) best = std::min(best, secondsSince(start));
+    }
+    return best > 0.0 ? double(count) / best * 1e-6 : 0.0;
+}
+
 // Mrays/s of one ray set by each tracer.
 struct RaySetResult {
     double gpu = 0.0, embree = 0.0, cpu = 0.0;
@@ -345,7 +378,7 @@ int main(int argc, char** argv) {
     try {
         cli::Args args(argc, argv, 1);
         int width = 256, height = 256, repeats = 3;
-        bool cpuTime = false, json = false, steps = false;
+        bool cpuTime = false, json = false, steps = false, ceiling = false;
         uint32_t raysPerInvocation = 1;
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
         if (const char* lp = std::getenv("LP_NUM_THREADS"); lp && std::atoi(lp) > 0) threads = unsigned(std::atoi(lp));
@@ -361,6 +394,7 @@ int main(int argc, char** argv) {
             else if (a == "--cpu-time") cpuTime = true;
             else if (a == "--json") json = true;
             else if (a == "--steps") steps = true;
+            else if (a == "--fetch-ceiling") ceiling = steps = true;
             else if (a == "--rays-per-invocation")
                 raysPerInvocation = uint32_t(cli::parseInt(a, args.value(a), 1, 64));
             else if (a == "--help" || a == "-h") {
@@ -483,6 +517,15 @@ int main(int argc, char** argv) {
                                 "efficiency %.2f; sorted by steps: %.2f, %.2f Mrays/s (%s Embree)\n", "", "",
                                 rows[k].name, c.node, c.leaf, efficiency,
                                 laneEfficiency(c.steps, order), full, ratio);
+                    if (!ceiling) continue;
+                    double rate[2];
+                    const uint32_t fetches[2] = {gpu::BVH_NODE_TEXELS, 4};
+                    for (int f = 0; f < 2; ++f)
+                        rate[f] = fetchCeiling(context, layout, gpuScene, c.steps, fetches[f], repeats);
+                    std::printf("%-20s %9s | %-8s fetches alone, 7 / 4 texels a step: %.2f / %.2f Mrays/s "
+                                "(%.2fx / %.2fx Embree)\n", "", "", rows[k].name, rate[0], rate[1],
+                                haveEmbree ? rate[0] / rows[k].r.embree : 0.0,
+                                haveEmbree ? rate[1] / rows[k].r.embree : 0.0);
                 }
             }
         }
