@@ -28,6 +28,15 @@ bool isFinite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// Whether material m has a GGX lobe (shaders/common/bsdf.glsl makeBsdf): its alpha = roughness^2
+// is not below SMOOTH_ALPHA (or a texture may make it so) and it has a conductor, glass, or
+// coated base part (the base is Lambertian alone at roughness 1).
+bool hasGlossyLobe(const gpu::Material& m) {
+    if (m.metallicRoughnessTexture != 0) return true;
+    if (m.roughness * m.roughness < gpu::SMOOTH_ALPHA) return false;
+    return m.metallic > 0.0f || m.transmission > 0.0f || m.roughness < 1.0f;
+}
+
 }  // namespace
 
 float luminance(const glm::vec3& rgb) {
@@ -51,11 +60,14 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
 
 uint32_t sceneFeatures(const Scene& scene) {
     uint32_t features = 0;
+    bool glossy = false;
     for (const gpu::Material& m : scene.materials) {
         if (m.normalTexture != 0) features |= gpu::SCENE_FEATURE_NORMAL_MAPS;
         if (m.alphaCutoff > 0.0f) features |= gpu::SCENE_FEATURE_ALPHA_MASKS;
         if (m.absorption != glm::vec3(0.0f)) features |= gpu::SCENE_FEATURE_ABSORPTION;
+        if (hasGlossyLobe(m)) glossy = true;
     }
+    if (!glossy) features |= gpu::SCENE_FEATURE_NO_GLOSSY;
     if (!scene.triangleEmission.empty()) features |= gpu::SCENE_FEATURE_EMISSIVE_TEXTURES;
     if (scene.tangents.size() != scene.vertices.size()) features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
     return features;

@@ -7,9 +7,6 @@
 
 #include "common/math.glsl"
 
-// Below this alpha a surface is treated as perfectly smooth (a delta lobe), as pbrt-v4 does.
-const float SMOOTH_ALPHA = 1e-3;
-
 // D(m) = alpha^2 / (pi ((n.m)^2 (alpha^2 - 1) + 1)^2)   (Walter 2007, eq. 33)
 // The denominator's (n.m)^2 (alpha^2 - 1) + 1 is evaluated as sin^2 + alpha^2 cos^2 (equal
 // for unit m): near the pole, where a sharp lobe (alpha = 0.0025) peaks, the first form cancels

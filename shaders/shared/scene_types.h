@@ -143,6 +143,8 @@ struct Material {
 };
 PMCR_CHECK_SIZE(Material, 96);
 PMCR_CONST uint MATERIAL_TEXELS = 6;
+// Below this GGX alpha (roughness^2) a lobe is perfectly smooth, a delta, as pbrt-v4 does.
+PMCR_CONST float SMOOTH_ALPHA = 1e-3f;
 
 // Scene features the kernels are specialized for (specialization constant 0, kSceneFeatures in
 // shaders/common/scene.glsl; host/scene/scene.h sceneFeatures): code for a feature the scene
@@ -151,6 +153,10 @@ PMCR_CONST uint SCENE_FEATURE_NORMAL_MAPS = 1u;        // a material has a norma
 PMCR_CONST uint SCENE_FEATURE_EMISSIVE_TEXTURES = 2u;  // an emitter has an emissiveTexture
 PMCR_CONST uint SCENE_FEATURE_ALPHA_MASKS = 4u;        // a triangle is cut by an alpha mask
 PMCR_CONST uint SCENE_FEATURE_ABSORPTION = 8u;         // a material absorbs inside (volume)
+// Set when no material has a GGX lobe (every lobe is Lambertian or smooth, a delta; see
+// SMOOTH_ALPHA): the kernels then compile the microfacet evaluation and sampling out. Unlike the
+// bits above it marks a lack, so that a kernel made without features keeps every lobe.
+PMCR_CONST uint SCENE_FEATURE_NO_GLOSSY = 16u;
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.

@@ -489,7 +489,7 @@ TEST(GltfLoader, MaterialExtensionsAndIgnoredFeatures) {
     EXPECT_FLOAT_EQ(g.absorption.x, 0.0f);
     EXPECT_NEAR(g.absorption.y, std::log(2.0f) / 2.0f, 1e-6f);
     EXPECT_NEAR(g.absorption.z, std::log(2.0f) / 2.0f, 1e-6f);
-    EXPECT_EQ(sceneFeatures(s), gpu::SCENE_FEATURE_ABSORPTION);
+    EXPECT_EQ(sceneFeatures(s) & ~gpu::SCENE_FEATURE_NO_GLOSSY, gpu::SCENE_FEATURE_ABSORPTION);
     EXPECT_EQ(s.materials[size_t(thin)].flags & gpu::MATERIAL_DOUBLE_SIDED, 0u);
     EXPECT_FLOAT_EQ(s.materials[size_t(thin)].ior, 1.5f);
     EXPECT_FLOAT_EQ(s.materials[size_t(thin)].alphaCutoff, 0.0f);
@@ -787,8 +787,9 @@ TEST(GltfLoader, NormalEmissiveAndAlphaTextures) {
     EXPECT_FLOAT_EQ(s.materials[size_t(leaf)].alphaCutoff, 0.5f);  // 0.4 / 0.8
     EXPECT_EQ(s.materials[size_t(clear)].transmissionTexture, 1u);
     EXPECT_FLOAT_EQ(s.materials[size_t(clear)].transmission, 0.5f);
-    EXPECT_EQ(sceneFeatures(s), gpu::SCENE_FEATURE_NORMAL_MAPS | gpu::SCENE_FEATURE_EMISSIVE_TEXTURES |
-                                    gpu::SCENE_FEATURE_ALPHA_MASKS);
+    EXPECT_EQ(sceneFeatures(s) & ~gpu::SCENE_FEATURE_NO_GLOSSY,
+              gpu::SCENE_FEATURE_NORMAL_MAPS | gpu::SCENE_FEATURE_EMISSIVE_TEXTURES |
+                  gpu::SCENE_FEATURE_ALPHA_MASKS);
     // The light, two normal-mapped, the glowing and the leaf triangle; the ghost is gone.
     ASSERT_EQ(s.triangles.size(), 5u);
     ASSERT_EQ(s.tangents.size(), s.vertices.size());
@@ -1193,6 +1194,33 @@ TEST(GltfLoaderErrors, SurvivesTruncationAndCorruption) {
     }
     EXPECT_GT(rejected, 0u);
     EXPECT_GT(loaded, 0u);
+}
+
+// SCENE_FEATURE_NO_GLOSSY (the kernels then compile the microfacet code out) only when no
+// material has a GGX lobe: Lambertian (roughness 1, no metal, no glass) and smooth lobes (alpha
+// below SMOOTH_ALPHA) are fine; a rough conductor, glass or coated base, or a metallic-roughness
+// texture (which may make any of them) is not.
+TEST(SceneFeatures, NoGlossyOnlyWhenNoMaterialHasAGgxLobe) {
+    auto features = [](float metallic, float roughness, float transmission, uint32_t texture = 0) {
+        Scene s;
+        gpu::Material m{};
+        m.metallic = metallic;
+        m.roughness = roughness;
+        m.transmission = transmission;
+        m.metallicRoughnessTexture = texture;
+        s.materials = {m};
+        return sceneFeatures(s) & gpu::SCENE_FEATURE_NO_GLOSSY;
+    };
+    EXPECT_NE(features(0.0f, 1.0f, 0.0f), 0u);    // Lambertian
+    EXPECT_NE(features(1.0f, 0.0f, 0.0f), 0u);    // mirror
+    EXPECT_NE(features(0.0f, 0.0f, 1.0f), 0u);    // smooth glass
+    EXPECT_NE(features(0.0f, 0.0f, 0.0f), 0u);    // smooth coat over Lambertian
+    EXPECT_NE(features(1.0f, 0.03f, 0.0f), 0u);   // alpha 9e-4, below SMOOTH_ALPHA
+    EXPECT_EQ(features(1.0f, 0.04f, 0.0f), 0u);   // alpha 1.6e-3: GGX conductor
+    EXPECT_EQ(features(1.0f, 1.0f, 0.0f), 0u);    // rough conductor
+    EXPECT_EQ(features(0.0f, 0.5f, 1.0f), 0u);    // rough glass
+    EXPECT_EQ(features(0.0f, 0.5f, 0.0f), 0u);    // GGX coat
+    EXPECT_EQ(features(0.0f, 1.0f, 0.0f, 1u), 0u);  // textured roughness
 }
 
 }  // namespace
