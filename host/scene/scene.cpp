@@ -60,14 +60,16 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
 
 uint32_t sceneFeatures(const Scene& scene) {
     uint32_t features = 0;
-    bool glossy = false;
+    bool glossy = false, transmission = false;
     for (const gpu::Material& m : scene.materials) {
         if (m.normalTexture != 0) features |= gpu::SCENE_FEATURE_NORMAL_MAPS;
         if (m.alphaCutoff > 0.0f) features |= gpu::SCENE_FEATURE_ALPHA_MASKS;
         if (m.absorption != glm::vec3(0.0f)) features |= gpu::SCENE_FEATURE_ABSORPTION;
         if (hasGlossyLobe(m)) glossy = true;
+        if (m.transmission > 0.0f) transmission = true;
     }
     if (!glossy) features |= gpu::SCENE_FEATURE_NO_GLOSSY;
+    if (!transmission) features |= gpu::SCENE_FEATURE_NO_TRANSMISSION;
     if (!scene.triangleEmission.empty()) features |= gpu::SCENE_FEATURE_EMISSIVE_TEXTURES;
     if (scene.tangents.size() != scene.vertices.size()) features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
     return features;

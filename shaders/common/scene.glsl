@@ -18,6 +18,7 @@ bool sceneHasEmissiveTextures() { return (kSceneFeatures & SCENE_FEATURE_EMISSIV
 bool sceneHasAlphaMasks() { return (kSceneFeatures & SCENE_FEATURE_ALPHA_MASKS) != 0u; }
 bool sceneHasAbsorption() { return (kSceneFeatures & SCENE_FEATURE_ABSORPTION) != 0u; }
 bool sceneHasGlossy() { return (kSceneFeatures & SCENE_FEATURE_NO_GLOSSY) == 0u; }
+bool sceneHasTransmission() { return (kSceneFeatures & SCENE_FEATURE_NO_TRANSMISSION) == 0u; }
 // Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
 // per-lane addresses is a loop over the lanes for every word. A Vertex is VERTEX_TEXELS float

@@ -27,8 +27,10 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     sh.woLocal = toLocal(sh.frame, wo);
     sh.bsdf = makeBsdf(ms.baseColor, ms.metallic, ms.roughness, ms.transmission, m.ior, sh.front);
     // In a scene without GGX lobes (SCENE_FEATURE_NO_GLOSSY) every alpha that matters is below
-    // SMOOTH_ALPHA: a constant 0 lets the compiler drop the microfacet code from every kernel.
+    // SMOOTH_ALPHA, and without transmission every glass weight is 0: as constants they let the
+    // compiler drop the microfacet code, or the glass lobe's, from every kernel.
     if (!sceneHasGlossy()) sh.bsdf.alpha = 0.0;
+    if (!sceneHasTransmission()) sh.bsdf.wDielectric = 0.0;
     return sh;
 }
 

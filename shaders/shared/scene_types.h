@@ -157,6 +157,9 @@ PMCR_CONST uint SCENE_FEATURE_ABSORPTION = 8u;         // a material absorbs ins
 // SMOOTH_ALPHA): the kernels then compile the microfacet evaluation and sampling out. Unlike the
 // bits above it marks a lack, so that a kernel made without features keeps every lobe.
 PMCR_CONST uint SCENE_FEATURE_NO_GLOSSY = 16u;
+// Set when no material transmits (transmission 0): the glass lobe's code is compiled out.
+PMCR_CONST uint SCENE_FEATURE_NO_TRANSMISSION = 32u;
+PMCR_CONST uint SCENE_FEATURES_LACKS = SCENE_FEATURE_NO_GLOSSY | SCENE_FEATURE_NO_TRANSMISSION;
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.

@@ -23,9 +23,8 @@ namespace {
 // One tile-mode kernel on cornell-spheres at width x height: the session and its work set.
 struct TileRig {
     TileRig(vk::Context& context, int width, int height, const char* kernelName,
-            uint32_t sceneFeatures = 0)
-        : session(context, testScene("scenes/cornell-spheres.glb"), settingsOf(width, height), width,
-                  height),
+            uint32_t sceneFeatures = 0, const char* scene = "scenes/cornell-spheres.glb")
+        : session(context, testScene(scene), settingsOf(width, height), width, height),
           kernel(session.layout(), kernelName, sceneFeatures),
           work(session.layout(), vk::DescriptorSet::Kind::Work, "dispatch test work") {
         bindTileWork(work, session.film(), session);
@@ -133,31 +132,39 @@ TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
 
 // A scene without GGX lobes (cornell-spheres: Lambertian walls, a mirror and a glass sphere)
 // renders the same with the microfacet code compiled out (SCENE_FEATURE_NO_GLOSSY, which the
-// host sets for it) as with it compiled in: bit for bit on lavapipe, within float rounding where
-// a compiler fuses the two variants' multiply-adds differently.
-TEST_F(GpuTest, PtWithoutGlossyCodeLeavesTheFilmUnchanged) {
-    ASSERT_NE(sceneFeatures(testScene("scenes/cornell-spheres.glb")) & gpu::SCENE_FEATURE_NO_GLOSSY, 0u);
-    auto render = [&](uint32_t features) {
-        TileRig rig(context(), 24, 24, "methods/pt/pt", features);
+// host sets for it) as with it compiled in, and one without glass (veach-mis: rough metal
+// plates) the same without the glass lobe (SCENE_FEATURE_NO_TRANSMISSION): bit for bit on
+// lavapipe, within float rounding where a compiler fuses the variants' multiply-adds differently.
+class PtLacks : public GpuTest,
+                public ::testing::WithParamInterface<std::pair<const char*, uint32_t>> {};
+
+TEST_P(PtLacks, CompilingOutWhatTheSceneLacksLeavesTheFilmUnchanged) {
+    const auto [scene, lack] = GetParam();
+    ASSERT_EQ(sceneFeatures(testScene(scene)) & lack, lack);
+    auto render = [&, scene = scene](uint32_t features) {
+        TileRig rig(context(), 24, 24, "methods/pt/pt", features, scene);
         gpu::PtPush push = tilePush(5);
         push.invocationCount = 24 * 24;
         push.samplesPerPixel = 4;
         rig.run({{push, push.invocationCount}});
         return rig.session.film().download();
     };
-    const auto withGlossy = render(0);
-    const auto without = render(gpu::SCENE_FEATURE_NO_GLOSSY);
-    ASSERT_EQ(withGlossy.size(), without.size());
+    const auto with = render(0);
+    const auto without = render(lack);
+    ASSERT_EQ(with.size(), without.size());
     double total = 0.0;
     for (size_t i = 0; i < without.size(); ++i) {
-        ASSERT_EQ(withGlossy[i].sampleCount, without[i].sampleCount) << "pixel " << i;
+        ASSERT_EQ(with[i].sampleCount, without[i].sampleCount) << "pixel " << i;
         for (int c = 0; c < 3; ++c)
-            ASSERT_NEAR(withGlossy[i].sum[c], without[i].sum[c], 1e-6f * std::abs(withGlossy[i].sum[c]))
-                << "pixel " << i;
+            ASSERT_NEAR(with[i].sum[c], without[i].sum[c], 1e-6f * std::abs(with[i].sum[c])) << "pixel " << i;
         total += without[i].sum.x;
     }
     EXPECT_GT(total, 0.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PtLacks,
+                         ::testing::Values(std::pair{"scenes/cornell-spheres.glb", gpu::SCENE_FEATURE_NO_GLOSSY},
+                                           std::pair{"scenes/veach-mis.glb", gpu::SCENE_FEATURE_NO_TRANSMISSION}));
 
 // The same for request lists (PMC-IP and PMC-PT): every request writes its own result, the same
 // bit for bit whatever the number of requests per invocation, for pixel-sequence requests and

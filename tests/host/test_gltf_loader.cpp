@@ -489,7 +489,7 @@ TEST(GltfLoader, MaterialExtensionsAndIgnoredFeatures) {
     EXPECT_FLOAT_EQ(g.absorption.x, 0.0f);
     EXPECT_NEAR(g.absorption.y, std::log(2.0f) / 2.0f, 1e-6f);
     EXPECT_NEAR(g.absorption.z, std::log(2.0f) / 2.0f, 1e-6f);
-    EXPECT_EQ(sceneFeatures(s) & ~gpu::SCENE_FEATURE_NO_GLOSSY, gpu::SCENE_FEATURE_ABSORPTION);
+    EXPECT_EQ(sceneFeatures(s) & ~gpu::SCENE_FEATURES_LACKS, gpu::SCENE_FEATURE_ABSORPTION);
     EXPECT_EQ(s.materials[size_t(thin)].flags & gpu::MATERIAL_DOUBLE_SIDED, 0u);
     EXPECT_FLOAT_EQ(s.materials[size_t(thin)].ior, 1.5f);
     EXPECT_FLOAT_EQ(s.materials[size_t(thin)].alphaCutoff, 0.0f);
@@ -787,7 +787,7 @@ TEST(GltfLoader, NormalEmissiveAndAlphaTextures) {
     EXPECT_FLOAT_EQ(s.materials[size_t(leaf)].alphaCutoff, 0.5f);  // 0.4 / 0.8
     EXPECT_EQ(s.materials[size_t(clear)].transmissionTexture, 1u);
     EXPECT_FLOAT_EQ(s.materials[size_t(clear)].transmission, 0.5f);
-    EXPECT_EQ(sceneFeatures(s) & ~gpu::SCENE_FEATURE_NO_GLOSSY,
+    EXPECT_EQ(sceneFeatures(s) & ~gpu::SCENE_FEATURES_LACKS,
               gpu::SCENE_FEATURE_NORMAL_MAPS | gpu::SCENE_FEATURE_EMISSIVE_TEXTURES |
                   gpu::SCENE_FEATURE_ALPHA_MASKS);
     // The light, two normal-mapped, the glowing and the leaf triangle; the ghost is gone.
@@ -1221,6 +1221,17 @@ TEST(SceneFeatures, NoGlossyOnlyWhenNoMaterialHasAGgxLobe) {
     EXPECT_EQ(features(0.0f, 0.5f, 1.0f), 0u);    // rough glass
     EXPECT_EQ(features(0.0f, 0.5f, 0.0f), 0u);    // GGX coat
     EXPECT_EQ(features(0.0f, 1.0f, 0.0f, 1u), 0u);  // textured roughness
+}
+
+// SCENE_FEATURE_NO_TRANSMISSION (the glass lobe compiled out) only when no material transmits.
+TEST(SceneFeatures, NoTransmissionOnlyWhenNoMaterialTransmits) {
+    Scene s;
+    gpu::Material m{};
+    m.roughness = 1.0f;
+    s.materials = {m, m};
+    EXPECT_NE(sceneFeatures(s) & gpu::SCENE_FEATURE_NO_TRANSMISSION, 0u);
+    s.materials[1].transmission = 0.5f;
+    EXPECT_EQ(sceneFeatures(s) & gpu::SCENE_FEATURE_NO_TRANSMISSION, 0u);
 }
 
 }  // namespace

@@ -72,7 +72,7 @@ class Absorption : public GpuTest {};
 
 TEST_F(Absorption, SlabMatchesBeerLambert) {
     const Scene scene = slabScene();
-    ASSERT_EQ(sceneFeatures(scene) & ~gpu::SCENE_FEATURE_NO_GLOSSY, gpu::SCENE_FEATURE_ABSORPTION);
+    ASSERT_EQ(sceneFeatures(scene) & ~gpu::SCENE_FEATURES_LACKS, gpu::SCENE_FEATURE_ABSORPTION);
     RenderSettings s;
     s.width = 24;
     s.height = 16;

@@ -187,7 +187,7 @@ Scene cardOverFloor(bool masked, float u, bool withCard = true) {
 }
 
 TEST_F(MaterialTextures, AlphaMaskCutsCameraAndShadowRays) {
-    ASSERT_EQ(sceneFeatures(cardOverFloor(true, 0.0f)) & ~gpu::SCENE_FEATURE_NO_GLOSSY,
+    ASSERT_EQ(sceneFeatures(cardOverFloor(true, 0.0f)) & ~gpu::SCENE_FEATURES_LACKS,
               gpu::SCENE_FEATURE_ALPHA_MASKS);
     const Image noCard = render(cardOverFloor(false, 0.0f, false));
     const Image opaqueCard = render(cardOverFloor(false, 0.0f));
@@ -236,7 +236,7 @@ TEST_F(MaterialTextures, EmissiveTextureScalesEmission) {
         return s;
     };
     const Scene textured = scene(true);
-    ASSERT_EQ(sceneFeatures(textured) & ~gpu::SCENE_FEATURE_NO_GLOSSY, gpu::SCENE_FEATURE_EMISSIVE_TEXTURES);
+    ASSERT_EQ(sceneFeatures(textured) & ~gpu::SCENE_FEATURES_LACKS, gpu::SCENE_FEATURE_EMISSIVE_TEXTURES);
     EXPECT_FLOAT_EQ(textured.triangleEmission[textured.triangles.size() - 2], 0.0f);
     EXPECT_NEAR(textured.triangleEmission.back(), 6.0f, 1e-5f);
     EXPECT_LT(relativeError(render(textured), render(scene(false))), 1e-4);
