@@ -10,9 +10,11 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <functional>
 #include <random>
 #include <thread>
 
@@ -95,6 +97,45 @@ double threadCpu() {
 }
 double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// The fastest of `repeats` timings of one dispatch that `record` records into a batch (after
+// the batch's scene and work sets are bound by `bind`), in seconds per dispatch, and the
+// process's CPU seconds per dispatch in that timing. On a GPU a timing runs as many dispatches
+// in one batch as take about kBatchSeconds: one there takes about a millisecond, and a lone
+// submission (its latency, the clocks of an idle GPU) would be most of what is timed; its rates
+// moved 2-3x between runs (docs/benchmarks.md). On a CPU device (lavapipe) a dispatch takes tens
+// of milliseconds and is timed alone: two in a batch measured slower per dispatch there (the
+// dragon's primary rays at 5 rather than 8 Mrays/s in two of three runs).
+struct DispatchTiming {
+    double seconds = 1e30;
+    double cpuSeconds = 0.0;
+};
+DispatchTiming timeDispatches(const vk::Context& context, const vk::PipelineLayout& layout,
+                              const std::function<void(vk::CommandBatch&)>& bind,
+                              const std::function<void(vk::CommandBatch&)>& record, int repeats) {
+    constexpr double kBatchSeconds = 0.05;
+    constexpr int kMaxDispatches = 4096;
+    auto run = [&](int dispatches, DispatchTiming& best) {
+        const auto start = Clock::now();
+        const double cpuStart = processCpu();
+        vk::CommandBatch batch(layout);
+        bind(batch);
+        for (int d = 0; d < dispatches; ++d) record(batch);
+        batch.submitAndWait();
+        const double seconds = secondsSince(start) / dispatches;
+        if (seconds < best.seconds) best = {seconds, (processCpu() - cpuStart) / dispatches};
+    };
+    DispatchTiming one;
+    run(1, one);  // also the warm-up: the first dispatch compiles the shader on lavapipe
+    run(1, one);
+    const int dispatches =
+        context.isCpuDevice()
+            ? 1
+            : int(std::clamp(std::ceil(kBatchSeconds / std::max(one.seconds, 1e-9)), 1.0, double(kMaxDispatches)));
+    DispatchTiming best;
+    for (int rep = 0; rep < repeats; ++rep) run(dispatches, best);
+    return best;
 }
 
 // Primary rays through jittered pixel positions of the scene's camera.
@@ -221,32 +262,21 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
         uint32_t raysPerInvocation;
     };
     const uint32_t flag = anyHit ? 1u : 0u;
-    // Warm-up: the first dispatch compiles the shader on lavapipe.
-    {
-        vk::CommandBatch batch(layout);
-        batch.bind(scene.descriptorSet());
-        batch.bind(work);
-        batch.dispatch(kernel, Push{std::min<uint32_t>(uint32_t(rays.size()), 64), flag, 1}, 64);
-        batch.submitAndWait();
-    }
+    const uint32_t count = uint32_t(rays.size());
+    const DispatchTiming d = timeDispatches(
+        context, layout,
+        [&](vk::CommandBatch& batch) {
+            batch.bind(scene.descriptorSet());
+            batch.bind(work);
+        },
+        [&](vk::CommandBatch& batch) {
+            batch.dispatch(kernel, Push{count, flag, raysPerInvocation},
+                           (count + raysPerInvocation - 1) / raysPerInvocation);
+        },
+        repeats);
     Timing t;
-    t.seconds = 1e30;
-    for (int rep = 0; rep < repeats; ++rep) {
-        auto start = Clock::now();
-        const double cpuStart = processCpu();
-        vk::CommandBatch batch(layout);
-        batch.bind(scene.descriptorSet());
-        batch.bind(work);
-        const uint32_t count = uint32_t(rays.size());
-        batch.dispatch(kernel, Push{count, flag, raysPerInvocation},
-                       (count + raysPerInvocation - 1) / raysPerInvocation);
-        batch.submitAndWait();
-        const double seconds = secondsSince(start);
-        if (seconds < t.seconds) {
-            t.seconds = seconds;
-            t.cpuSeconds = processCpu() - cpuStart;
-        }
-    }
+    t.seconds = d.seconds;
+    t.cpuSeconds = d.cpuSeconds;
     t.hits = hits.download<gpu::Hit>(rays.size());
     return t;
 }
@@ -319,16 +349,15 @@ double fetchCeiling(vk::Context& context, const vk::PipelineLayout& layout, cons
         uint32_t count;
     };
     const uint32_t count = uint32_t(steps.size());
-    double best = 1e30;
-    for (int rep = -1; rep < repeats; ++rep) {  // rep -1: the warm-up (lavapipe compiles)
-        auto start = Clock::now();
-        vk::CommandBatch batch(layout);
-        batch.bind(scene.descriptorSet());
-        batch.bind(work);
-        batch.dispatch(kernel, Push{count}, count);
-        batch.submitAndWait();
-        if (rep >= 0) best = std::min(best, secondsSince(start));
-    }
+    const double best = timeDispatches(
+                            context, layout,
+                            [&](vk::CommandBatch& batch) {
+                                batch.bind(scene.descriptorSet());
+                                batch.bind(work);
+                            },
+                            [&](vk::CommandBatch& batch) { batch.dispatch(kernel, Push{count}, count); },
+                            repeats)
+                            .seconds;
     return best > 0.0 ? double(count) / best * 1e-6 : 0.0;
 }
 
