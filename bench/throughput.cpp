@@ -99,8 +99,8 @@ double secondsSince(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-// The fastest of `repeats` timings of one dispatch that `record` records into a batch (after
-// the batch's scene and work sets are bound by `bind`), in seconds per dispatch, and the
+// The fastest of `repeats` timings of one dispatch that `record` records into a batch (with the
+// scene's descriptor set and `work` bound), in seconds per dispatch, and the
 // process's CPU seconds per dispatch in that timing. On a GPU a timing runs as many dispatches
 // in one batch as take about kBatchSeconds: one there takes about a millisecond, and a lone
 // submission (its latency, the clocks of an idle GPU) would be most of what is timed; its rates
@@ -112,7 +112,7 @@ struct DispatchTiming {
     double cpuSeconds = 0.0;
 };
 DispatchTiming timeDispatches(const vk::Context& context, const vk::PipelineLayout& layout,
-                              const std::function<void(vk::CommandBatch&)>& bind,
+                              const GpuScene& scene, const vk::DescriptorSet& work,
                               const std::function<void(vk::CommandBatch&)>& record, int repeats) {
     constexpr double kBatchSeconds = 0.05;
     constexpr int kMaxDispatches = 4096;
@@ -120,7 +120,8 @@ DispatchTiming timeDispatches(const vk::Context& context, const vk::PipelineLayo
         const auto start = Clock::now();
         const double cpuStart = processCpu();
         vk::CommandBatch batch(layout);
-        bind(batch);
+        batch.bind(scene.descriptorSet());
+        batch.bind(work);
         for (int d = 0; d < dispatches; ++d) record(batch);
         batch.submitAndWait();
         const double seconds = secondsSince(start) / dispatches;
@@ -264,11 +265,7 @@ Timing traceGpu(vk::Context& context, const vk::PipelineLayout& layout, const Gp
     const uint32_t flag = anyHit ? 1u : 0u;
     const uint32_t count = uint32_t(rays.size());
     const DispatchTiming d = timeDispatches(
-        context, layout,
-        [&](vk::CommandBatch& batch) {
-            batch.bind(scene.descriptorSet());
-            batch.bind(work);
-        },
+        context, layout, scene, work,
         [&](vk::CommandBatch& batch) {
             batch.dispatch(kernel, Push{count, flag, raysPerInvocation},
                            (count + raysPerInvocation - 1) / raysPerInvocation);
@@ -349,15 +346,10 @@ double fetchCeiling(vk::Context& context, const vk::PipelineLayout& layout, cons
         uint32_t count;
     };
     const uint32_t count = uint32_t(steps.size());
-    const double best = timeDispatches(
-                            context, layout,
-                            [&](vk::CommandBatch& batch) {
-                                batch.bind(scene.descriptorSet());
-                                batch.bind(work);
-                            },
-                            [&](vk::CommandBatch& batch) { batch.dispatch(kernel, Push{count}, count); },
-                            repeats)
-                            .seconds;
+    const double best =
+        timeDispatches(context, layout, scene, work,
+                       [&](vk::CommandBatch& batch) { batch.dispatch(kernel, Push{count}, count); }, repeats)
+            .seconds;
     return best > 0.0 ? double(count) / best * 1e-6 : 0.0;
 }
 
