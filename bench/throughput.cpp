@@ -5,7 +5,8 @@
 // are measured in the same run on the same machine.
 //
 //   pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N] [--threads T]
-//                         [--cpu-time] [--steps] [--fetch-ceiling] [--rays-per-invocation P]
+//                         [--cpu-time] [--steps] [--fetch-ceiling] [--step-ceiling SMALL]
+//                         [--rays-per-invocation P]
 //                         [--json] [SCENE...]
 #include <algorithm>
 #include <bit>
@@ -44,7 +45,7 @@ using Clock = std::chrono::steady_clock;
 const char* const kUsage =
     "usage: pmcr-bench-throughput [--width W] [--height H] [--device ID] [--repeats N]\n"
     "                             [--threads T] [--cpu-time] [--steps] [--fetch-ceiling]\n"
-    "                             [--rays-per-invocation P] [--json] SCENE...\n"
+    "                             [--step-ceiling SMALL] [--rays-per-invocation P] [--json] SCENE...\n"
     "       (bench/throughput runs it on the default scene and the dragon)\n"
     "\n"
     "Traces three ray sets: primary rays (one per pixel of a W x H image, default 256 x 256,\n"
@@ -76,6 +77,11 @@ const char* const kUsage =
     "                        alone (shaders/bench/fetch_steps.comp: each ray's steps, 7 or 4\n"
     "                        texels a step, no arithmetic or stack), an upper bound on any\n"
     "                        traversal that fetches that much per step with lanes as idle\n"
+    "  --step-ceiling SMALL  --steps, and the Mrays/s each ray set would reach with free memory\n"
+    "                        reads: the kernel's cost per step and per ray, fitted on scene SMALL\n"
+    "                        (e.g. scenes/cornell-classic.glb, 36 triangles: its BVH stays\n"
+    "                        in the L1 cache), times each ray's steps; with the measured idle\n"
+    "                        lanes and with none\n"
     "  --rays-per-invocation P  trace P rays in turn per invocation, a lane starting its next\n"
     "                        ray when its last ends (1..64, default 1)\n"
     "  --cpu-time            also print Mrays/s per CPU second: the process's CPU time during\n"
@@ -353,6 +359,61 @@ double fetchCeiling(vk::Context& context, const vk::PipelineLayout& layout, cons
     return best > 0.0 ? double(count) / best * 1e-6 : 0.0;
 }
 
+// The traversal's cost with its memory reads nearly free: the kernel's time per 8-lane vector
+// step and per vector of rays (loading the ray, storing the hit), for closest-hit and any-hit
+// rays, fitted on a scene small enough for its whole BVH to stay in the L1 cache. A set of rays
+// takes about vectors * perVector + vectorSteps * perStep there, where vectorSteps sums each
+// vector's longest ray; two sets per kind give the two costs: the scene's own rays, and as many
+// rays from outside the scene pointing away from it, which end after one step.
+struct StepCost {
+    double perStep[2] = {0.0, 0.0};    // seconds, [closest hit, any hit]
+    double perVector[2] = {0.0, 0.0};
+};
+
+StepCost measureStepCost(vk::Context& context, const vk::PipelineLayout& layout, const std::string& path,
+                         int width, int height, int repeats) {
+    Scene scene = loadScene(path);
+    GpuScene gpuScene(context, layout, scene, 0, width, height);
+    std::mt19937 rng(7);
+    auto primary = primaryRays(gpuScene.info(), rng);
+    auto bounce = bounceRays(scene, primary, traceCpu(gpuScene.bvh(), primary, false, 1).hits, rng);
+    auto shadow = shadowRays(scene, bounce, traceCpu(gpuScene.bvh(), bounce, false, 1).hits, rng);
+    const glm::vec3 away = glm::normalize(glm::vec3(1.0f, 1.0f, 1.0f));
+    const glm::vec3 start = scene.boundsMax + (scene.boundsMax - scene.boundsMin + 1.0f);
+    // Each set repeated 8 times, so that a dispatch lasts long enough (about 0.2 s on two
+    // lavapipe threads) for the fit not to follow the scheduling noise of short ones.
+    const int copies = 8;
+    auto repeated = [&](const std::vector<gpu::BvhQuery>& rays) {
+        std::vector<gpu::BvhQuery> r;
+        for (int i = 0; i < copies; ++i) r.insert(r.end(), rays.begin(), rays.end());
+        return r;
+    };
+    bounce = repeated(bounce);
+    shadow = repeated(shadow);
+    std::vector<gpu::BvhQuery> oneStep(bounce.size(), gpu::BvhQuery{start, 1e30f, away, 0u});
+    StepCost cost;
+    for (int kind = 0; kind < 2; ++kind) {
+        const bool anyHit = kind == 1;
+        const std::vector<gpu::BvhQuery>& rays = anyHit ? shadow : bounce;
+        const std::vector<gpu::BvhQuery> one(oneStep.begin(), oneStep.begin() + rays.size());
+        const double vectors = double((rays.size() + 7) / 8);
+        const StepCounts c = countSteps(context, layout, gpuScene, rays, anyHit);
+        double vectorSteps = 0.0;
+        for (size_t first = 0; first < rays.size(); first += 8)
+            vectorSteps += *std::max_element(c.steps.begin() + first,
+                                             c.steps.begin() + std::min(first + 8, rays.size()));
+        const double all = traceGpu(context, layout, gpuScene, rays, anyHit, repeats, 1).seconds;
+        const double oneTime = traceGpu(context, layout, gpuScene, one, anyHit, repeats, 1).seconds;
+        if (vectorSteps < 2.0 * vectors)
+            throw Error(path + ": its rays take about one traversal step each, too few to fit a step's "
+                        "cost (--step-ceiling wants a scene of a few dozen triangles)");
+        // all = vectors (perVector + perStep * vectorSteps / vectors), oneTime = vectors (perVector + perStep).
+        cost.perStep[kind] = std::max(0.0, (all - oneTime) / (vectorSteps - vectors));
+        cost.perVector[kind] = std::max(0.0, oneTime / vectors - cost.perStep[kind]);
+    }
+    return cost;
+}
+
 // Mrays/s of one ray set by each tracer.
 struct RaySetResult {
     double gpu = 0.0, embree = 0.0, cpu = 0.0;
@@ -403,7 +464,7 @@ int main(int argc, char** argv) {
         uint32_t raysPerInvocation = 1;
         unsigned threads = std::max(1u, std::thread::hardware_concurrency());
         if (const char* lp = std::getenv("LP_NUM_THREADS"); lp && std::atoi(lp) > 0) threads = unsigned(std::atoi(lp));
-        std::string device;
+        std::string device, stepScene;
         std::vector<std::string> scenes;
         while (!args.done()) {
             std::string a = args.next();
@@ -416,6 +477,10 @@ int main(int argc, char** argv) {
             else if (a == "--json") json = true;
             else if (a == "--steps") steps = true;
             else if (a == "--fetch-ceiling") ceiling = steps = true;
+            else if (a == "--step-ceiling") {
+                stepScene = args.value(a);
+                steps = true;
+            }
             else if (a == "--rays-per-invocation")
                 raysPerInvocation = uint32_t(cli::parseInt(a, args.value(a), 1, 64));
             else if (a == "--help" || a == "-h") {
@@ -444,6 +509,9 @@ int main(int argc, char** argv) {
             std::printf("%-20s %9s | %-8s %8s %8s %8s %8s | %10s\n", "scene", "triangles", "rays", "GPU",
                         "Embree", "GPU/Emb", "CPU", "pt Msamp/s");
         }
+        StepCost stepCost;
+        if (!stepScene.empty() && !json)  // printed beside the table only
+            stepCost = measureStepCost(context, layout, stepScene, width, height, repeats);
         nlohmann::json out = nlohmann::json::array();
         for (const auto& path : scenes) {
             Scene scene = loadScene(path);
@@ -538,6 +606,19 @@ int main(int argc, char** argv) {
                                 "efficiency %.2f; sorted by steps: %.2f, %.2f Mrays/s (%s Embree)\n", "", "",
                                 rows[k].name, c.node, c.leaf, efficiency,
                                 laneEfficiency(c.steps, order), full, ratio);
+                    if (!stepScene.empty()) {
+                        // This set's rays at the small scene's costs: memory free, and either
+                        // the measured idle lanes or none.
+                        const int kind = k == 2 ? 1 : 0;
+                        const double m = c.node + c.leaf;
+                        const double idle = 8.0 / (stepCost.perVector[kind] + stepCost.perStep[kind] * m / efficiency);
+                        const double busy = 8.0 / (stepCost.perVector[kind] + stepCost.perStep[kind] * m);
+                        std::printf("%-20s %9s | %-8s memory free (%.0f ns a vector step, %.0f a vector of rays): "
+                                    "%.2f Mrays/s (%.2fx Embree), lanes never idle %.2f (%.2fx)\n", "", "",
+                                    rows[k].name, stepCost.perStep[kind] * 1e9, stepCost.perVector[kind] * 1e9,
+                                    idle * 1e-6, haveEmbree ? idle * 1e-6 / rows[k].r.embree : 0.0, busy * 1e-6,
+                                    haveEmbree ? busy * 1e-6 / rows[k].r.embree : 0.0);
+                    }
                     if (!ceiling) continue;
                     double rate[2];
                     const uint32_t fetches[2] = {gpu::BVH_NODE_TEXELS, 4};
