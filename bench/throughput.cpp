@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <functional>
+#include <numeric>
 #include <random>
 #include <thread>
 
@@ -299,20 +300,33 @@ double agreement(const std::vector<gpu::Hit>& a, const std::vector<gpu::Hit>& b,
     return a.empty() ? 1.0 : double(same) / double(a.size());
 }
 
-// The share of lane-steps that do work when the rays `order` lists run 8 at a time as the lanes
-// of one vector (lavapipe's 8 consecutive invocations), whose loop runs until its slowest lane
-// is done: 1 when no lane idles.
-double laneEfficiency(const std::vector<uint32_t>& steps, const std::vector<size_t>& order) {
-    double lane = 0.0, vector = 0.0;
+// The steps the kernel's loop runs when the rays `order` lists run 8 at a time as the lanes of
+// one vector (lavapipe's 8 consecutive invocations): each vector's loop runs until its slowest
+// lane is done, so the sum over vectors of their longest ray's steps.
+double vectorSteps(const std::vector<uint32_t>& steps, const std::vector<size_t>& order) {
+    double sum = 0.0;
     for (size_t first = 0; first < order.size(); first += 8) {
         uint32_t longest = 0;
-        for (size_t i = first; i < std::min(first + 8, order.size()); ++i) {
-            lane += steps[order[i]];
+        for (size_t i = first; i < std::min(first + 8, order.size()); ++i)
             longest = std::max(longest, steps[order[i]]);
-        }
-        vector += 8.0 * longest;
+        sum += longest;
     }
+    return sum;
+}
+
+// The share of those lane-steps that do work: 1 when no lane idles.
+double laneEfficiency(const std::vector<uint32_t>& steps, const std::vector<size_t>& order) {
+    double lane = 0.0;
+    for (size_t i : order) lane += steps[i];
+    const double vector = 8.0 * vectorSteps(steps, order);
     return vector > 0.0 ? lane / vector : 1.0;
+}
+
+// 0, 1, ..., n - 1: the rays in their own order.
+std::vector<size_t> inOrder(size_t n) {
+    std::vector<size_t> order(n);
+    std::iota(order.begin(), order.end(), size_t{0});
+    return order;
 }
 
 // What the kernel's traversal loop does per ray (trace_rays_steps.comp): wide-node and leaf
@@ -362,9 +376,9 @@ double fetchCeiling(vk::Context& context, const vk::PipelineLayout& layout, cons
 // The traversal's cost with its memory reads nearly free: the kernel's time per 8-lane vector
 // step and per vector of rays (loading the ray, storing the hit), for closest-hit and any-hit
 // rays, fitted on a scene small enough for its whole BVH to stay in the L1 cache. A set of rays
-// takes about vectors * perVector + vectorSteps * perStep there, where vectorSteps sums each
-// vector's longest ray; two sets per kind give the two costs: the scene's own rays, and as many
-// rays from outside the scene pointing away from it, which end after one step.
+// takes about vectors * perVector + steps * perStep there, where steps is vectorSteps(); two
+// sets per kind give the two costs: the scene's own rays, and as many rays from outside the
+// scene pointing away from it, which end after one step.
 struct StepCost {
     double perStep[2] = {0.0, 0.0};    // seconds, [closest hit, any hit]
     double perVector[2] = {0.0, 0.0};
@@ -390,25 +404,21 @@ StepCost measureStepCost(vk::Context& context, const vk::PipelineLayout& layout,
     };
     bounce = repeated(bounce);
     shadow = repeated(shadow);
-    std::vector<gpu::BvhQuery> oneStep(bounce.size(), gpu::BvhQuery{start, 1e30f, away, 0u});
     StepCost cost;
     for (int kind = 0; kind < 2; ++kind) {
         const bool anyHit = kind == 1;
         const std::vector<gpu::BvhQuery>& rays = anyHit ? shadow : bounce;
-        const std::vector<gpu::BvhQuery> one(oneStep.begin(), oneStep.begin() + rays.size());
+        const std::vector<gpu::BvhQuery> one(rays.size(), gpu::BvhQuery{start, 1e30f, away, 0u});
         const double vectors = double((rays.size() + 7) / 8);
-        const StepCounts c = countSteps(context, layout, gpuScene, rays, anyHit);
-        double vectorSteps = 0.0;
-        for (size_t first = 0; first < rays.size(); first += 8)
-            vectorSteps += *std::max_element(c.steps.begin() + first,
-                                             c.steps.begin() + std::min(first + 8, rays.size()));
+        const double steps = vectorSteps(countSteps(context, layout, gpuScene, rays, anyHit).steps,
+                                         inOrder(rays.size()));
         const double all = traceGpu(context, layout, gpuScene, rays, anyHit, repeats, 1).seconds;
         const double oneTime = traceGpu(context, layout, gpuScene, one, anyHit, repeats, 1).seconds;
-        if (vectorSteps < 2.0 * vectors)
+        if (steps < 2.0 * vectors)
             throw Error(path + ": its rays take about one traversal step each, too few to fit a step's "
                         "cost (--step-ceiling wants a scene of a few dozen triangles)");
-        // all = vectors (perVector + perStep * vectorSteps / vectors), oneTime = vectors (perVector + perStep).
-        cost.perStep[kind] = std::max(0.0, (all - oneTime) / (vectorSteps - vectors));
+        // all = vectors perVector + steps perStep, oneTime = vectors (perVector + perStep).
+        cost.perStep[kind] = std::max(0.0, (all - oneTime) / (steps - vectors));
         cost.perVector[kind] = std::max(0.0, oneTime / vectors - cost.perStep[kind]);
     }
     return cost;
@@ -589,8 +599,7 @@ int main(int argc, char** argv) {
                     // The same rays ordered by their step counts, so that the 8 lanes of a vector
                     // take (nearly) as many steps each: what refilling idle lanes could gain at
                     // most (it also gives up primary rays' coherence).
-                    std::vector<size_t> order(sets[k]->size());
-                    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+                    std::vector<size_t> order = inOrder(sets[k]->size());
                     const double efficiency = laneEfficiency(c.steps, order);
                     // Sorted within windows of 256 rays, which keeps most of the rays' locality.
                     for (size_t w = 0; w < order.size(); w += 256)

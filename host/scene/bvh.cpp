@@ -387,7 +387,7 @@ std::vector<glm::uvec4> Bvh::deviceTexels() const {
     }
 
     const size_t triangleBase = size_t{gpu::BVH_NODE_TEXELS} * children.size();
-    const size_t texelCount = triangleBase + 3 * m_triangles.size();
+    const size_t texelCount = triangleBase + size_t{gpu::BVH_TRIANGLE_TEXELS} * m_triangles.size();
     if (texelCount > gpu::BVH_MAX_TEXELS) {
         throw Error("BVH of " + std::to_string(m_triangles.size()) + " triangles needs " +
                     std::to_string(texelCount) + " texels, more than the kernels address (" +
@@ -405,7 +405,7 @@ std::vector<glm::uvec4> Bvh::deviceTexels() const {
                 lo = n.boundsMin;
                 hi = n.boundsMax;
                 const size_t address =
-                    n.count > 0 ? triangleBase + 3 * size_t{n.leftOrFirst}
+                    n.count > 0 ? triangleBase + size_t{gpu::BVH_TRIANGLE_TEXELS} * n.leftOrFirst
                                 : size_t{gpu::BVH_NODE_TEXELS} * wideIndex[children[w][k]];
                 ref = (uint32_t(address) << 3) | n.count;
             }
@@ -413,14 +413,15 @@ std::vector<glm::uvec4> Bvh::deviceTexels() const {
                 node[axis][k] = std::bit_cast<uint32_t>(lo[axis]);
                 node[3 + axis][k] = std::bit_cast<uint32_t>(hi[axis]);
             }
-            node[6][k] = ref;
+            node[gpu::BVH_NODE_REFS_TEXEL][k] = ref;
         }
     }
     for (size_t i = 0; i < m_triangles.size(); ++i) {
         const gpu::IsectTriangle& t = m_triangles[i];
-        texels[triangleBase + 3 * i] = std::bit_cast<glm::uvec4>(t.v0);
-        texels[triangleBase + 3 * i + 1] = std::bit_cast<glm::uvec4>(t.e1);
-        texels[triangleBase + 3 * i + 2] = std::bit_cast<glm::uvec4>(t.e2);
+        glm::uvec4* triangle = &texels[triangleBase + gpu::BVH_TRIANGLE_TEXELS * i];
+        triangle[0] = std::bit_cast<glm::uvec4>(t.v0);
+        triangle[1] = std::bit_cast<glm::uvec4>(t.e1);
+        triangle[2] = std::bit_cast<glm::uvec4>(t.e2);
     }
     return texels;
 }

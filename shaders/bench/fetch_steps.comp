@@ -37,7 +37,7 @@ void main() {
         uvec4 w0 = bvhTexel(address);
         uvec4 w1 = bvhTexel(address + 1u);
         uvec4 w2 = bvhTexel(address + 2u);
-        uvec4 w6 = bvhTexel(leaf ? address : address + BVH_NODE_TEXELS - 1u);
+        uvec4 w6 = bvhTexel(leaf ? address : address + BVH_NODE_REFS_TEXEL);
         acc ^= w0 ^ w1 ^ w2 ^ w6;
         if (kFetchesPerStep > 4u) {
             acc ^= bvhTexel(one ? address : address + 3u) ^

@@ -207,7 +207,7 @@ bool bvhStep(inout BvhTraversal t) {
     uvec4 w3 = bvhTexel(one ? address : address + 3u);
     uvec4 w4 = bvhTexel(one ? address + 1u : address + 4u);
     uvec4 w5 = bvhTexel(one ? address + 2u : address + 5u);
-    uvec4 w6 = bvhTexel(leaf ? address : address + BVH_NODE_TEXELS - 1u);  // the refs
+    uvec4 w6 = bvhTexel(leaf ? address : address + BVH_NODE_REFS_TEXEL);  // the refs
     bool next = false;  // t.ref is set to the next node or triangles
     if (leaf) {
         if (bvhIntersectTriangle(uintBitsToFloat(w0), uintBitsToFloat(w1), uintBitsToFloat(w2),
@@ -219,7 +219,7 @@ bool bvhStep(inout BvhTraversal t) {
             t.found = true;
         }
         if (count > 2u) {
-            t.ref = ((address + 6u) << 3) | (count - 2u);
+            t.ref = ((address + 2u * BVH_TRIANGLE_TEXELS) << 3) | (count - 2u);
             next = true;
         }
     } else {

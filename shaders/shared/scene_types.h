@@ -62,6 +62,8 @@ PMCR_CHECK_SIZE(BvhNode, 32);
 PMCR_CONST uint BVH_MAX_TEXELS = 1u << 29;
 PMCR_CONST uint BVH_WIDTH = 4;
 PMCR_CONST uint BVH_NODE_TEXELS = 7;
+PMCR_CONST uint BVH_NODE_REFS_TEXEL = 6;  // of a wide node's texels, the one with its refs
+PMCR_CONST uint BVH_TRIANGLE_TEXELS = 3;  // v0, e1, e2
 PMCR_CONST uint BVH_EMPTY_CHILD = 0xFFFFFFFFu;
 
 // Build limits. Leaves hold at most BVH_MAX_LEAF_TRIANGLES; the root has depth 0 and every

@@ -333,7 +333,7 @@ TEST(Bvh, SphereMatchesBruteForce) {
 uint32_t expectWideTexels(const Bvh& bvh) {
     const std::vector<glm::uvec4> texels = bvh.deviceTexels();
     const std::vector<gpu::BvhNode>& nodes = bvh.nodes();
-    const size_t triangleBase = texels.size() - 3 * bvh.triangles().size();
+    const size_t triangleBase = texels.size() - gpu::BVH_TRIANGLE_TEXELS * bvh.triangles().size();
     EXPECT_EQ(triangleBase % gpu::BVH_NODE_TEXELS, 0u);
     std::vector<int> reached(triangleBase / gpu::BVH_NODE_TEXELS, 0);
     uint32_t wideDepth = 0;
@@ -357,7 +357,7 @@ uint32_t expectWideTexels(const Bvh& bvh) {
             }
         }
         for (uint32_t k = 0; k < gpu::BVH_WIDTH; ++k) {
-            const uint32_t ref = texels[address + 6][k];
+            const uint32_t ref = texels[address + gpu::BVH_NODE_REFS_TEXEL][k];
             if (k >= kids.size()) {
                 EXPECT_EQ(ref, gpu::BVH_EMPTY_CHILD) << "address " << address << " slot " << k;
                 continue;
