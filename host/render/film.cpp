@@ -23,8 +23,15 @@ std::vector<gpu::FilmPixel> Film::download() const {
     return m_pixels.download<gpu::FilmPixel>(pixelCount());
 }
 
-void Film::addCounters(Counters& totals) const {
-    auto values = m_counters.download<uint32_t>(gpu::COUNTER_COUNT);
+vk::Buffer Film::makeCounters(vk::Context& context, const std::string& name) {
+    vk::Buffer counters(context, gpu::COUNTER_COUNT * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                        name, vk::MemoryUsage::Readback);
+    counters.fill(0);
+    return counters;
+}
+
+void Film::addCounters(const vk::Buffer& counters, Counters& totals) {
+    auto values = counters.download<uint32_t>(gpu::COUNTER_COUNT);
     for (uint32_t i = 0; i < gpu::COUNTER_COUNT; ++i) totals.values[i] += values[i];
 }
 

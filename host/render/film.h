@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "image/image.h"
@@ -33,7 +34,10 @@ public:
     void clear();
     std::vector<gpu::FilmPixel> download() const;
     // Adds the GPU counters to `totals`; the caller zeroes them at the start of each batch.
-    void addCounters(Counters& totals) const;
+    void addCounters(Counters& totals) const { addCounters(m_counters, totals); }
+    // The same for any buffer of COUNTER_COUNT counters (a batch in flight has its own).
+    static void addCounters(const vk::Buffer& counters, Counters& totals);
+    static vk::Buffer makeCounters(vk::Context& context, const std::string& name);
 
 private:
     int m_width;

@@ -48,6 +48,11 @@ Buffer::Buffer(Context& context, VkDeviceSize size, VkBufferUsageFlags usage,
         type = context.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
                                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
                                           VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    } else if (memory == MemoryUsage::Upload) {
+        type = context.findMemoryType(
+            req.memoryTypeBits,
+            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     } else {
         type = context.findMemoryType(
             req.memoryTypeBits,

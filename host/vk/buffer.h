@@ -19,6 +19,9 @@ class Context;
 enum class MemoryUsage {
     Device,    // GPU working memory; host access through staging when not mappable
     Readback,  // host-visible, cached where possible (results read every batch)
+    Upload,    // host-visible, device-local where possible (work lists written every batch):
+               // written through the mapping, without a staging copy that would wait for
+               // the batches in flight
 };
 
 class Buffer {

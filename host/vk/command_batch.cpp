@@ -23,21 +23,36 @@ CommandBatch::CommandBatch(const PipelineLayout& layout, GpuTimer* timer)
         vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
         throwVkError(result, "vkCreateFence", __FILE__, __LINE__);
     }
+    if (m_timer && m_timer->enabled()) {
+        VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        info.queryCount = 2 * kMaxTimedDispatches;
+        result = vkCreateQueryPool(m_context.device(), &info, nullptr, &m_queries);
+        if (result != VK_SUCCESS) {
+            vkDestroyFence(m_context.device(), m_fence, nullptr);
+            vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
+            throwVkError(result, "vkCreateQueryPool", __FILE__, __LINE__);
+        }
+    }
 }
 
 CommandBatch::~CommandBatch() {
+    if (m_inFlight) vkWaitForFences(m_context.device(), 1, &m_fence, VK_TRUE, UINT64_MAX);
     if (m_recording) vkEndCommandBuffer(m_cmd);
+    if (m_queries) vkDestroyQueryPool(m_context.device(), m_queries, nullptr);
     vkDestroyFence(m_context.device(), m_fence, nullptr);
     vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
 }
 
 void CommandBatch::begin() {
     if (m_recording) return;
+    wait();  // a batch in flight must finish before its command buffer is recorded again
     VK_CHECK(vkResetCommandBuffer(m_cmd, 0));
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(m_cmd, &info));
-    if (m_timer) m_timer->reset(m_cmd);
+    m_timed.clear();
+    if (m_queries) vkCmdResetQueryPool(m_cmd, m_queries, 0, 2 * kMaxTimedDispatches);
     m_recording = true;
     m_dispatches = 0;
     // Writes of earlier submissions (transfers, dispatches, host) are visible to this batch.
@@ -85,9 +100,14 @@ void CommandBatch::dispatch(const Kernel& kernel, const void* push, uint32_t pus
     vkCmdBindPipeline(m_cmd, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.handle());
     if (pushBytes > 0)
         vkCmdPushConstants(m_cmd, m_layout.handle(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, push);
-    if (m_timer) m_timer->begin(m_cmd, kernel.name());
+    const bool timed = m_queries && m_timed.size() < kMaxTimedDispatches;
+    const uint32_t query = uint32_t(2 * m_timed.size());
+    if (timed) vkCmdWriteTimestamp(m_cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, m_queries, query);
     vkCmdDispatch(m_cmd, groups, 1, 1);
-    if (m_timer) m_timer->end(m_cmd);
+    if (timed) {
+        vkCmdWriteTimestamp(m_cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, m_queries, query + 1);
+        m_timed.push_back(kernel.name());
+    }
     m_needsBarrier = true;
     ++m_dispatches;
 }
@@ -108,6 +128,11 @@ void CommandBatch::copy(const Buffer& src, const Buffer& dst, uint64_t bytes) {
 }
 
 void CommandBatch::submitAndWait() {
+    submit();
+    wait();
+}
+
+void CommandBatch::submit() {
     begin();
     // Make every write of the batch visible to host reads of mapped memory.
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -121,9 +146,37 @@ void CommandBatch::submitAndWait() {
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &m_cmd;
+    m_submittedAt = std::chrono::steady_clock::now();
     VK_CHECK(vkQueueSubmit(m_context.queue(), 1, &submit, m_fence));
+    m_context.activity().submitted(m_submittedAt);
+    m_inFlight = true;
+}
+
+void CommandBatch::wait() {
+    if (!m_inFlight) return;
+    const bool alreadySignalled = vkGetFenceStatus(m_context.device(), m_fence) == VK_SUCCESS;
     VK_CHECK(vkWaitForFences(m_context.device(), 1, &m_fence, VK_TRUE, UINT64_MAX));
-    if (m_timer) m_timer->collect();
+    m_inFlight = false;
+    const double span = collectTimes();
+    m_context.activity().completed(m_submittedAt, alreadySignalled, span);
+}
+
+double CommandBatch::collectTimes() {
+    if (!m_queries || m_timed.empty()) return -1.0;
+    std::vector<uint64_t> stamps(2 * m_timed.size());
+    VK_CHECK(vkGetQueryPoolResults(m_context.device(), m_queries, 0, uint32_t(stamps.size()),
+                                   stamps.size() * sizeof(uint64_t), stamps.data(), sizeof(uint64_t),
+                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    const uint32_t bits = m_context.timestampValidBits();
+    const uint64_t mask = bits >= 64 ? ~0ull : ((1ull << bits) - 1);
+    const double nsPerTick = m_context.limits().timestampPeriod;
+    for (size_t i = 0; i < m_timed.size(); ++i) {
+        const uint64_t ticks = ((stamps[2 * i + 1] & mask) - (stamps[2 * i] & mask)) & mask;
+        m_timer->add(m_timed[i], double(ticks) * nsPerTick * 1e-6);
+    }
+    const uint64_t span = ((stamps.back() & mask) - (stamps.front() & mask)) & mask;
+    m_timed.clear();
+    return double(span) * nsPerTick * 1e-9;
 }
 
 }  // namespace pmcr::vk

@@ -10,7 +10,10 @@
 
 #include <volk.h>
 
+#include <chrono>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace pmcr::vk {
 
@@ -42,6 +45,11 @@ public:
 
     // Ends, submits and waits; the batch can then be recorded again from scratch.
     void submitAndWait();
+    // The same in two steps, so that the host can work while the device runs the batch (with
+    // a second batch recorded meanwhile: two in flight). wait() after submit() only.
+    void submit();
+    void wait();
+    bool inFlight() const { return m_inFlight; }
 
 private:
     void begin();
@@ -50,9 +58,19 @@ private:
     Context& m_context;
     const PipelineLayout& m_layout;
     GpuTimer* m_timer;
+    // Timestamps around each dispatch (with a timer on a device that has them): a pool of
+    // 2 kMaxTimedDispatches queries per batch, names in dispatch order.
+    static constexpr uint32_t kMaxTimedDispatches = 1024;
+    VkQueryPool m_queries = VK_NULL_HANDLE;
+    std::vector<std::string> m_timed;
+    // Adds the completed batch's dispatch times to the timer; returns its span on the device in
+    // seconds, first dispatch's start to last one's end (-1 without timestamps).
+    double collectTimes();
     VkCommandBuffer m_cmd = VK_NULL_HANDLE;
     VkFence m_fence = VK_NULL_HANDLE;
     bool m_recording = false;
+    bool m_inFlight = false;
+    std::chrono::steady_clock::time_point m_submittedAt{};
     bool m_needsBarrier = false;
     uint32_t m_dispatches = 0;
 };

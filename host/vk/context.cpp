@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "vk/check.h"
 #include "vk/pipeline.h"
+#include "vk/pipeline_cache.h"
 
 namespace pmcr::vk {
 
@@ -336,7 +337,9 @@ Context::~Context() { destroy(); }
 void Context::destroy() {
     if (m_device) {
         vkDeviceWaitIdle(m_device);
-        m_kernels.clear();
+        m_kernels.clear();  // waits for creations still running
+        if (m_pipelineCache) m_pipelineCache->save();
+        m_pipelineCache.reset();
         m_layout.reset();
         if (m_commandPool) vkDestroyCommandPool(m_device, m_commandPool, nullptr);
         vkDestroyDevice(m_device, nullptr);
@@ -417,8 +420,11 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
         VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
         submit.commandBufferCount = 1;
         submit.pCommandBuffers = &cmd;
+        const auto submittedAt = DeviceActivity::Clock::now();
         VK_CHECK(vkQueueSubmit(m_queue, 1, &submit, fence));
+        m_activity.submitted(submittedAt);
         VK_CHECK(vkWaitForFences(m_device, 1, &fence, VK_TRUE, UINT64_MAX));
+        m_activity.completed(submittedAt, false, -1.0);
     } catch (...) {
         if (fence) vkDestroyFence(m_device, fence, nullptr);
         vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
@@ -436,8 +442,41 @@ const PipelineLayout& Context::layout() {
 const Kernel& Context::kernel(const std::string& shaderName, uint32_t sceneFeatures,
                               uint32_t kernelOptions) {
     auto& slot = m_kernels[{shaderName, sceneFeatures, kernelOptions}];
-    if (!slot) slot = std::make_unique<Kernel>(layout(), shaderName, sceneFeatures, kernelOptions);
+    if (!slot) {
+        const auto start = std::chrono::steady_clock::now();
+        pipelineCache();  // created here, before the creation threads share it
+        slot = std::make_unique<Kernel>(layout(), shaderName, sceneFeatures, kernelOptions);
+        m_pipelineSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
     return *slot;
+}
+
+VkPipelineCache Context::pipelineCache() const {
+    if (!m_pipelineCache) m_pipelineCache = std::make_unique<PipelineCache>(m_device, m_properties);
+    return m_pipelineCache->handle();
+}
+
+void DeviceActivity::submitted(Clock::time_point t) {
+    if (m_inFlight++ == 0) m_since = t;
+}
+
+void DeviceActivity::completed(Clock::time_point submittedAt, bool alreadySignalled,
+                               double deviceSeconds) {
+    if (m_inFlight == 0) return;
+    Clock::time_point end = Clock::now();
+    if (alreadySignalled && deviceSeconds >= 0.0) {
+        // It ran from when it was submitted (or the one before it ended) for its device span.
+        const Clock::time_point start = std::max(submittedAt, m_lastEnd);
+        end = std::min(end, start + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(deviceSeconds)));
+    }
+    end = std::max(end, m_since);
+    m_lastEnd = end;
+    if (--m_inFlight == 0) m_busy += std::chrono::duration<double>(end - m_since).count();
+}
+
+double DeviceActivity::busySeconds() const {
+    return m_busy + (m_inFlight > 0 ? std::chrono::duration<double>(Clock::now() - m_since).count() : 0.0);
 }
 
 void Context::setName(VkObjectType type, uint64_t handle, const char* name) const {

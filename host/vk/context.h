@@ -8,6 +8,7 @@
 
 #include <volk.h>
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -19,7 +20,29 @@
 namespace pmcr::vk {
 
 class PipelineLayout;
+class PipelineCache;
 class Kernel;
+
+// Whether the device has work: the time with at least one submission in flight, summed, for the
+// stats' device_idle_seconds (a render's time minus this). A submission counts from
+// vkQueueSubmit until the host sees its fence signalled, or, when the fence had signalled
+// before the host looked, until the end its kernels' timestamps give (execution starts when
+// both it is submitted and the one before it is done).
+class DeviceActivity {
+public:
+    using Clock = std::chrono::steady_clock;
+    void submitted(Clock::time_point t);
+    // `deviceSeconds`: the submission's span on the device from timestamps (< 0: unknown).
+    void completed(Clock::time_point submittedAt, bool alreadySignalled, double deviceSeconds);
+    // Seconds with work in flight up to now.
+    double busySeconds() const;
+
+private:
+    int m_inFlight = 0;
+    Clock::time_point m_since{};
+    Clock::time_point m_lastEnd{};
+    double m_busy = 0.0;
+};
 
 struct ContextOptions {
     bool validate = false;       // enable VK_LAYER_KHRONOS_validation (+ synchronization checks)
@@ -70,6 +93,12 @@ public:
     // Records commands into a one-time command buffer, submits it and waits for completion.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
     VkCommandPool commandPool() const { return m_commandPool; }
+    DeviceActivity& activity() { return m_activity; }
+    const DeviceActivity& activity() const { return m_activity; }
+    // The on-disk pipeline cache every kernel is created through (vk/pipeline_cache.h).
+    VkPipelineCache pipelineCache() const;
+    // Wall time spent creating pipelines (kernel()) in this context so far.
+    double pipelineSeconds() const { return m_pipelineSeconds; }
 
     // Names a Vulkan object for validation messages and debuggers (no-op without validation).
     void setName(VkObjectType type, uint64_t handle, const char* name) const;
@@ -106,6 +135,9 @@ private:
     mutable std::mutex m_messageMutex;
     std::vector<std::string> m_messages;
 
+    DeviceActivity m_activity;
+    mutable std::unique_ptr<PipelineCache> m_pipelineCache;
+    double m_pipelineSeconds = 0.0;
     std::unique_ptr<PipelineLayout> m_layout;
     std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Kernel>> m_kernels;
 };

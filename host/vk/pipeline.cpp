@@ -135,33 +135,52 @@ void DescriptorSet::bind(uint32_t binding, const Buffer& buffer) {
 Kernel::Kernel(const PipelineLayout& layout, const std::string& shaderName, uint32_t sceneFeatures,
                uint32_t kernelOptions)
     : m_context(layout.context()), m_name(shaderName) {
-    auto code = spirv(shaderName);
-    VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    moduleInfo.codeSize = code.size() * sizeof(uint32_t);
-    moduleInfo.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(m_context.device(), &moduleInfo, nullptr, &module));
+    Context& context = m_context;
+    const VkPipelineLayout layoutHandle = layout.handle();
+    m_creation = std::async(std::launch::async, [&context, layoutHandle, shaderName, sceneFeatures,
+                                                 kernelOptions]() {
+        auto code = spirv(shaderName);
+        VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        moduleInfo.codeSize = code.size() * sizeof(uint32_t);
+        moduleInfo.pCode = code.data();
+        VkShaderModule module = VK_NULL_HANDLE;
+        VK_CHECK(vkCreateShaderModule(context.device(), &moduleInfo, nullptr, &module));
 
-    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    info.stage.module = module;
-    info.stage.pName = "main";
-    // Constant 0 is kSceneFeatures, 1 kKernelOptions; a shader that does not declare one
-    // ignores it.
-    const uint32_t constants[2] = {sceneFeatures, kernelOptions};
-    const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)},
-                                                 {1, sizeof(uint32_t), sizeof(uint32_t)}};
-    const VkSpecializationInfo specialization{2, entries, sizeof(constants), constants};
-    info.stage.pSpecializationInfo = &specialization;
-    info.layout = layout.handle();
-    VkResult result =
-        vkCreateComputePipelines(m_context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &m_pipeline);
-    vkDestroyShaderModule(m_context.device(), module, nullptr);
-    if (result != VK_SUCCESS) throwVkError(result, "vkCreateComputePipelines", __FILE__, __LINE__);
-    m_context.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(m_pipeline), shaderName.c_str());
+        VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        info.stage.module = module;
+        info.stage.pName = "main";
+        // Constant 0 is kSceneFeatures, 1 kKernelOptions; a shader that does not declare one
+        // ignores it.
+        const uint32_t constants[2] = {sceneFeatures, kernelOptions};
+        const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)},
+                                                     {1, sizeof(uint32_t), sizeof(uint32_t)}};
+        const VkSpecializationInfo specialization{2, entries, sizeof(constants), constants};
+        info.stage.pSpecializationInfo = &specialization;
+        info.layout = layoutHandle;
+        VkPipeline pipeline = VK_NULL_HANDLE;
+        VkResult result = vkCreateComputePipelines(context.device(), context.pipelineCache(), 1, &info,
+                                                   nullptr, &pipeline);
+        vkDestroyShaderModule(context.device(), module, nullptr);
+        if (result != VK_SUCCESS) throwVkError(result, "vkCreateComputePipelines", __FILE__, __LINE__);
+        context.setName(VK_OBJECT_TYPE_PIPELINE, uint64_t(pipeline), shaderName.c_str());
+        return pipeline;
+    });
 }
 
-Kernel::~Kernel() { vkDestroyPipeline(m_context.device(), m_pipeline, nullptr); }
+VkPipeline Kernel::handle() const {
+    if (m_creation.valid()) m_pipeline = m_creation.get();
+    return m_pipeline;
+}
+
+Kernel::~Kernel() {
+    try {
+        handle();
+    } catch (...) {
+        // A creation that failed has already been reported where the kernel was used.
+    }
+    if (m_pipeline) vkDestroyPipeline(m_context.device(), m_pipeline, nullptr);
+}
 
 }  // namespace pmcr::vk

@@ -8,6 +8,7 @@
 #include <volk.h>
 
 #include <cstdint>
+#include <future>
 #include <span>
 #include <string>
 #include <vector>
@@ -74,13 +75,17 @@ public:
     Kernel(const Kernel&) = delete;
     Kernel& operator=(const Kernel&) = delete;
 
-    VkPipeline handle() const { return m_pipeline; }
+    // The pipeline, waiting for its creation to finish: kernels are created on threads of
+    // their own, so a method's kernels (and a driver's compilation of them) proceed in
+    // parallel while the host goes on; creation errors are thrown here.
+    VkPipeline handle() const;
     const std::string& name() const { return m_name; }
 
 private:
     Context& m_context;
     std::string m_name;
-    VkPipeline m_pipeline = VK_NULL_HANDLE;
+    mutable std::future<VkPipeline> m_creation;
+    mutable VkPipeline m_pipeline = VK_NULL_HANDLE;
 };
 
 }  // namespace pmcr::vk
