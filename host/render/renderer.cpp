@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/process_clock.h"
 #include "image/image.h"
 #include "render/methods.h"
 #include "render/stats.h"
@@ -48,6 +49,9 @@ RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderS
     RenderResult result;
     result.output = integrator->render(session);
     result.samplingSeconds = session.elapsedSeconds();
+    result.clockStart = std::chrono::steady_clock::now() -
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(result.samplingSeconds));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
                      session.snapshotOverheadSeconds();
     result.interrupted = session.interrupted();
@@ -98,7 +102,13 @@ std::vector<std::filesystem::path> writeRenderOutputs(const RenderResult& result
         writeHdr(hdr, image);
         written.push_back(hdr);
     }
-    writeJsonAtomically(paths.stats, result.stats);
+    nlohmann::json stats = result.stats;
+    if (result.clockStart != std::chrono::steady_clock::time_point{}) {  // not `pmcr merge`
+        stats["written_seconds"] =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - result.clockStart).count();
+        stats["wall_seconds"] = processSeconds();
+    }
+    writeJsonAtomically(paths.stats, stats);
     written.push_back(paths.stats);
     return written;
 }

@@ -2,6 +2,7 @@
 // `pmcr render`, `pmcr bench` and the tests, so all three run exactly the same path.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 
@@ -18,6 +19,9 @@ struct RenderResult {
     nlohmann::json stats;
     double seconds = 0.0;          // wall time of the method, kernel creation included
     double samplingSeconds = 0.0;  // the render clock (RenderSession::startClock) at the end
+    // When the render clock would read 0 (snapshot overhead taken off): writeRenderOutputs
+    // adds the clock at the image written (what --time limits) to the stats.
+    std::chrono::steady_clock::time_point clockStart{};
     bool interrupted = false;
     std::vector<Snapshot> snapshots;  // settings.snapshotSeconds / snapshotSpp, in order
 };
@@ -48,7 +52,8 @@ OutputPaths resolveOutputPaths(const std::filesystem::path& scene,
                                float exposure);
 
 // Writes the HDR image, its PNG, the diagnostics (`<stem>.<suffix>.exr` and .png) and the stats
-// JSON, each atomically. Returns the paths written.
+// JSON, each atomically; the JSON gets `written_seconds` (the render clock when the images were
+// written) and `wall_seconds` (the process's time then). Returns the paths written.
 std::vector<std::filesystem::path> writeRenderOutputs(const RenderResult& result,
                                                       const OutputPaths& paths);
 

@@ -21,7 +21,16 @@ RenderSession::RenderSession(vk::Context& context, const Scene& scene,
     m_progress = std::make_unique<Progress>(settings.method, !settings.quiet);
     m_placeholder = vk::Buffer(context, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "placeholder");
     m_placeholder.fill(0);
+    m_pipelineSecondsAtStart = context.pipelineSeconds();
     m_start = std::chrono::steady_clock::now();
+}
+
+double RenderSession::pipelineSeconds() const {
+    return m_context.pipelineSeconds() - m_pipelineSecondsAtStart + m_warmupSeconds;
+}
+
+double RenderSession::deviceBusySeconds() const {
+    return m_context.activity().busySeconds() - m_busyAtClockStart;
 }
 
 const vk::Kernel& RenderSession::kernel(const std::string& name, uint32_t kernelOptions) {
@@ -31,6 +40,7 @@ const vk::Kernel& RenderSession::kernel(const std::string& name, uint32_t kernel
 }
 
 void RenderSession::startClock() {
+    const auto warmupStart = std::chrono::steady_clock::now();
     // One workgroup of each kernel with all push constants zero: every kernel's invocation
     // count (invocationCount, memberCount, chainCount, recordCount) is then 0, so it does no
     // work, and the work set's bindings all point at the placeholder.
@@ -45,6 +55,8 @@ void RenderSession::startClock() {
         batch.submitAndWait();
     }
     m_start = std::chrono::steady_clock::now();
+    m_warmupSeconds += std::chrono::duration<double>(m_start - warmupStart).count();
+    m_busyAtClockStart = m_context.activity().busySeconds();
 }
 
 double RenderSession::elapsedSeconds() const {
@@ -100,6 +112,24 @@ double RenderSession::nextSnapshotSpp() const {
 double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevice() ? 0.05 : 0.02; }
 
 double RenderSession::targetBatchSeconds() const { return m_context.isCpuDevice() ? 0.25 : 0.1; }
+
+bool PassClock::startPass() {
+    if (m_session.shouldStop()) return false;
+    const double limit = m_session.settings().timeLimit;
+    const double now = m_session.elapsedSeconds();
+    if (limit > 0.0 && m_completed > 0 && now + m_longest > limit) return false;
+    m_passStart = now;
+    return true;
+}
+
+void PassClock::passDone() {
+    m_longest = std::max(m_longest, m_session.elapsedSeconds() - m_passStart);
+    ++m_completed;
+}
+
+bool PassClock::abandon() const {
+    return m_session.interrupted() || (m_completed > 0 && m_session.timeUp());
+}
 
 DispatchSizer::DispatchSizer(uint32_t initialUnits, uint32_t maxUnits, double targetSeconds)
     : m_units(std::clamp<uint32_t>(initialUnits, 1u, std::max(maxUnits, 1u))),

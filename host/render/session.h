@@ -76,6 +76,15 @@ public:
     double elapsedSeconds() const;
     // Wall time spent taking snapshots (taken off the render clock).
     double snapshotOverheadSeconds() const { return m_snapshotOverhead; }
+    // Wall time spent building this render's pipelines and compiling them (the warm-up of
+    // startClock): outside the clock, and what the on-disk pipeline cache saves.
+    double pipelineSeconds() const;
+    // Seconds of the clock with a submission in flight on the device (vk::DeviceActivity).
+    double deviceBusySeconds() const;
+    // Pre-passes (ERPT's mean-luminance pass, the Metropolis bootstraps) run on the clock and
+    // count in --time; methods report their length here for the stats.
+    void addPrepassSeconds(double seconds) { m_prepassSeconds += seconds; }
+    double prepassSeconds() const { return m_prepassSeconds; }
     bool timeUp() const;
     // Interrupted by the user or out of time: stop at the next batch boundary.
     bool shouldStop() const;
@@ -121,6 +130,35 @@ private:
     size_t m_nextSnapshotTime = 0;
     size_t m_nextSnapshotSpp = 0;
     double m_snapshotOverhead = 0.0;
+    double m_pipelineSecondsAtStart = 0.0;  // the context's pipeline seconds before this render
+    double m_warmupSeconds = 0.0;
+    double m_busyAtClockStart = 0.0;
+    double m_prepassSeconds = 0.0;
+};
+
+// The seed passes of a method whose pass cannot be cut short (ERPT, PMC-ER, MLT, PSSMLT: a
+// partial pass is dropped, since it would darken the image), kept within --time: a pass starts
+// only when the clock says it will end in time, judged by the longest pass so far, and a pass
+// that overruns anyway is abandoned. The first pass always runs to the end, so a render
+// always has an image.
+class PassClock {
+public:
+    explicit PassClock(const RenderSession& session) : m_session(session) {}
+    // Before each pass: false when the render should stop (Ctrl-C, time up, or a pass as long
+    // as the longest so far would end past the time limit).
+    bool startPass();
+    // After a pass completed.
+    void passDone();
+    // During a pass: stop it (and drop it) on Ctrl-C, or when it ran past the time limit and
+    // an earlier pass completed.
+    bool abandon() const;
+    double longestPassSeconds() const { return m_longest; }
+
+private:
+    const RenderSession& m_session;
+    double m_passStart = 0.0;
+    double m_longest = 0.0;
+    uint32_t m_completed = 0;
 };
 
 // Chooses how much work goes into one dispatch from the throughput measured so far, so that a

@@ -1,5 +1,6 @@
 #include "render/stats.h"
 
+#include <algorithm>
 #include <fstream>
 
 #include "core/error.h"
@@ -35,6 +36,14 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
     j["bvh_nodes"] = session.scene().bvh().nodes().size();
     j["rays"] = session.counters().rays();
     j["rays_per_second"] = renderSeconds > 0.0 ? double(session.counters().rays()) / renderSeconds : 0.0;
+    // Where the time went (docs/performance.md): building and compiling pipelines (outside the
+    // clock), the pre-passes (on it), and how busy the device was while the clock ran.
+    const double kernelSeconds = session.timer().totalMilliseconds() * 1e-3;
+    j["pipeline_seconds"] = session.pipelineSeconds();
+    j["prepass_seconds"] = session.prepassSeconds();
+    j["device_busy"] = samplingSeconds > 0.0 ? kernelSeconds / samplingSeconds : 0.0;
+    j["device_idle_seconds"] = std::max(0.0, samplingSeconds - session.deviceBusySeconds());
+    j["rays_per_kernel_second"] = kernelSeconds > 0.0 ? double(session.counters().rays()) / kernelSeconds : 0.0;
     j["nan_samples_dropped"] = session.counters().nanDropped();
     j["interrupted"] = session.interrupted();
     j["options"] = s.options;

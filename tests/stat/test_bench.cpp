@@ -123,7 +123,8 @@ TEST_F(Bench, ReportForATinyScene) {
                           "images/pt.exr", "images/direct.json", "images/erpt.chains.exr"})
         EXPECT_TRUE(fs::is_regular_file(dir / f)) << f;
 
-    // The figures: Eff = 1 / (T Err), ratios to pt, at least the time budget for each method.
+    // The figures: Eff = 1 / (T Err), ratios to pt. --time is a limit the render ends within
+    // (a pass that would end past it is not started), so T is any positive time.
     const nlohmann::json results = nlohmann::json::parse(readText(dir / "results.json"));
     ASSERT_EQ(results["methods"].size(), labels.size());
     const auto& pt = results["methods"][0];
@@ -131,7 +132,7 @@ TEST_F(Bench, ReportForATinyScene) {
         const auto& m = results["methods"][i];
         const double t = m["time"].get<double>(), mse = m["mse"].get<double>();
         const double pmse = m["pmse"].get<double>();
-        EXPECT_GE(t, 0.5) << m["label"];
+        EXPECT_GT(t, 0.0) << m["label"];
         EXPECT_GT(mse, 0.0);
         EXPECT_NEAR(m["eff"].get<double>(), 1.0 / (t * mse), 1e-9 / (t * mse));
         EXPECT_NEAR(m["peff"].get<double>(), 1.0 / (t * pmse), 1e-9 / (t * pmse));

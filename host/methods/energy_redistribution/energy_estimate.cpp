@@ -8,6 +8,7 @@
 namespace pmcr {
 
 double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
+    const double start = session.elapsedSeconds();
     const RenderSettings& s = session.settings();
     Film film(session.context(), session.width(), session.height());
     const vk::Kernel& kernel = session.kernel(pathTracingKernel(session.scene(), "pt"));
@@ -41,7 +42,9 @@ double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
     // With several ranks, the mean of their pre-passes (each its own seed): every rank then
     // deposits the same e_d (core/communicator.h).
     Communicator& comm = session.comm();
-    return comm.allReduceSum(sum / double(pixels)) / double(comm.size());
+    const double mean = comm.allReduceSum(sum / double(pixels)) / double(comm.size());
+    session.addPrepassSeconds(session.elapsedSeconds() - start);
+    return mean;
 }
 
 }  // namespace pmcr

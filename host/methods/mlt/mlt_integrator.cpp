@@ -123,6 +123,7 @@ RenderOutput Mlt::render(RenderSession& session) {
     push.minVertices = o.separateDirect ? 3 : 1;
 
     // The bootstrap: weights W_i = F / p of independent samples.
+    const double bootstrapStart = session.elapsedSeconds();
     for (uint64_t first = 0; first < bootstrapSamples && !session.interrupted(); first += kBootstrapChunk) {
         batches.begin();
         batch.bind(work);
@@ -137,6 +138,7 @@ RenderOutput Mlt::render(RenderSession& session) {
     if (!session.interrupted())
         start = chooseChainStarts(weights.download<float>(bootstrapSamples), chainCount,
                                   (uint64_t(settings.seed) << 32) ^ 0x6d6c74ULL);
+    session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
     // e_d: each pass's chainCount * stepsPerPass deposits of e_d sum to b_hat in expectation.
     const double depositEnergy = start.normalization / (double(chainCount) * stepsPerPass);
 
@@ -166,7 +168,8 @@ RenderOutput Mlt::render(RenderSession& session) {
 
         push.flags = 0;
         DispatchSizer sizer(1024, chainCount, session.targetDispatchSeconds());
-        for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
+        PassClock clock(session);
+        for (uint32_t pass = 0; pass < passes && clock.startPass(); ++pass) {
             if (o.separateDirect) {
                 batches.begin();
                 batch.bind(directWork);
@@ -193,10 +196,11 @@ RenderOutput Mlt::render(RenderSession& session) {
                     c += push.chainCount;
                 }
                 done += push.steps;
-                interrupted = session.interrupted();
+                interrupted = clock.abandon();
             }
             if (interrupted) break;  // a partial pass would be a darker, biased image
             splat.completePass();
+            clock.passDone();
             session.snapshotIfDue(uint64_t(splat.completedPasses()) * pixels, resolve);
             session.progress().update(passes != std::numeric_limits<uint32_t>::max()
                                           ? double(pass + 1) / double(passes)

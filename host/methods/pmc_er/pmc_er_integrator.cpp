@@ -349,7 +349,8 @@ RenderOutput PmcEr::render(RenderSession& session) {
     // render seeds r and r + 2 would share their passes' random numbers.
     Pcg32 rng(settings.seed, 0x504d432d4552ULL);  // "PMC-ER"
     if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
-        for (uint32_t pass = 0; pass < passes && !session.shouldStop(); ++pass) {
+        PassClock clock(session);
+        for (uint32_t pass = 0; pass < passes && clock.startPass(); ++pass) {
             StratifiedPixelPool pool(width, height, rounds, pass * rounds, rng);
             std::vector<uint32_t> all(population);
             for (uint32_t i = 0; i < population; ++i) all[i] = i;
@@ -359,7 +360,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
                 mutate(o.mutations);
                 ++iterationsRun;
                 auto state = downloadMembers();
-                if (session.interrupted()) {
+                if (clock.abandon()) {
                     interrupted = true;
                     break;
                 }
@@ -391,13 +392,13 @@ RenderOutput PmcEr::render(RenderSession& session) {
                     most = std::max(most, double(m.remaining));
                     alive += m.remaining > 0.0f ? 1 : 0;
                 }
-                if (left <= 0.0 || drainBudget == 0 || session.interrupted()) break;
+                if (left <= 0.0 || drainBudget == 0 || clock.abandon()) break;
                 const uint32_t steps = uint32_t(std::clamp(std::ceil(most), 1.0, double(4 * o.mutations)));
                 drainBudget -= std::min<uint64_t>(drainBudget, alive * steps);
                 if (first) drainedEnergy += left;
                 mutate(steps);
             }
-            if (session.interrupted()) {
+            if (clock.abandon()) {
                 interrupted = true;
                 break;
             }
@@ -414,6 +415,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
             batch.dispatch(finishKernel, push, population);
             batches.submit();
             completeRedistributionPass(session, splat, depositEnergy, poolPerPass, pass, passes);
+            clock.passDone();
         }
     }
     session.progress().finish();

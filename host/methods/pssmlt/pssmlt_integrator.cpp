@@ -108,6 +108,7 @@ RenderOutput Pssmlt::render(RenderSession& session) {
 
     // Bootstrap: F of uniform primary vectors, W_i = F(u_i) * pixels (Veach 1997 sec. 11.3.1).
     const uint32_t chunk = context.isCpuDevice() ? kBootstrapChunk : uint32_t(bootstrapSamples);
+    const double bootstrapStart = session.elapsedSeconds();
     bool interrupted = false;
     for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chunk) {
         batches.begin();
@@ -125,6 +126,7 @@ RenderOutput Pssmlt::render(RenderSession& session) {
         for (float& x : w) x *= float(pixels);
         start = chooseChainStarts(w, chains, settings.seed);
     }
+    session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
     const double normalization = start.normalization;
     // e_d: each pass's chains * steps deposits share b (the image's total luminance).
     const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
@@ -150,19 +152,21 @@ RenderOutput Pssmlt::render(RenderSession& session) {
     if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         starts.upload(start.samples);
         runChains(0, gpu::PSSMLT_FLAG_START);
-        for (uint32_t pass = 0; pass < spp && !session.shouldStop() && !interrupted; ++pass) {
+        PassClock clock(session);
+        for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass(); ++pass) {
             for (uint32_t done = 0; done < stepsPerPass;) {
                 const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
                 runChains(steps, 0);
                 mutations += uint64_t(chains) * steps;
                 done += steps;
-                if (session.interrupted()) {
+                if (clock.abandon()) {
                     interrupted = true;
                     break;
                 }
             }
             if (interrupted) break;
             completeRedistributionPass(session, splat, depositEnergy, pixels, pass, spp);
+            clock.passDone();
         }
     }
     session.progress().finish();
