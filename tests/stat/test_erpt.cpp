@@ -110,5 +110,27 @@ TEST_F(ErptTest, UnbiasedWithMixedMutationsAndExpectedValues) {
     expectUnbiased(s, 40, 16);
 }
 
+// Seed passes run together (--passes-per-batch: their chains side by side, as a GPU runs them
+// to fill itself; issue 38) are the same estimator: unbiased, with 16 = 5 x 3 + 1 passes so
+// that the last batch is a partial one, and the same seed gives the same image.
+TEST_F(ErptTest, PassesRunTogetherStayUnbiased) {
+    RenderSettings s = erptSettings(20, 16);
+    s.options["chain-length"] = "20";
+    s.options["mutations-per-pixel"] = "4";
+    s.options["passes-per-batch"] = "3";
+    expectUnbiased(s, 40, 16);
+}
+
+TEST_F(ErptTest, PassesRunTogetherSameSeedSameImage) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    RenderSettings s = erptSettings(32, 4);
+    s.options["passes-per-batch"] = "3";
+    auto a = renderForTest(scene, s);
+    auto b = renderForTest(scene, s);
+    EXPECT_EQ(a.output.image.rgb, b.output.image.rgb);
+    EXPECT_EQ(a.output.samplesPerPixel, 4.0);
+    EXPECT_EQ(a.output.methodStats["passes_per_batch"], 3);
+}
+
 }  // namespace
 }  // namespace pmcr::test

@@ -33,8 +33,9 @@ void RedistributionBatch::submit() {
 }
 
 void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
-                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes) {
-    splat.completePass();
+                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes,
+                                uint32_t count) {
+    splat.completePass(count);
     session.snapshotIfDue(uint64_t(splat.completedPasses()) * pathsPerPass,
                           [&] { return splat.resolve(depositEnergy); });
     const double fraction = passes != std::numeric_limits<uint32_t>::max()

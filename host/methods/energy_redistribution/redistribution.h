@@ -40,11 +40,13 @@ private:
     double m_directEnergy = 0.0;
 };
 
-// Ends seed pass `pass` (0-based) of `passes` (UINT32_MAX: as many as --time allows): the device film's
-// deposits join the completed passes, a snapshot is written if one is due (`pathsPerPass`
-// path-traced paths per pass), and the progress bar moves by passes, or by time.
+// Ends seed pass `pass` (0-based) of `passes` (UINT32_MAX: as many as --time allows), and the
+// `count` - 1 before it run together with it: the device film's deposits join the completed
+// passes, a snapshot is written if one is due (`pathsPerPass` path-traced paths per pass), and
+// the progress bar moves by passes, or by time.
 void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
-                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes);
+                                uint64_t pathsPerPass, uint32_t pass, uint32_t passes,
+                                uint32_t count = 1);
 
 // ERPT's perturbations as options, shared by erpt and mlt (which runs ERPT's own mutations):
 // which perturbation (--mutation: erpt, mix, lens, caustic), the lens disk and the caustic angles.

@@ -13,11 +13,11 @@ SplatFilm::SplatFilm(vk::Context& context, int width, int height)
     m_pixels.fill(0);
 }
 
-void SplatFilm::completePass() {
+void SplatFilm::completePass(uint32_t count) {
     auto pass = m_pixels.download<uint64_t>(m_accumulated.size());
     for (size_t i = 0; i < pass.size(); ++i) m_accumulated[i] += pass[i];
     m_pixels.fill(0);
-    ++m_passes;
+    m_passes += int(count);
 }
 
 Image SplatFilm::resolve(float depositEnergy) const {

@@ -18,7 +18,8 @@ public:
 
     const vk::Buffer& pixels() const { return m_pixels; }
     // Adds the device film into the host accumulator and clears it: one pass is complete.
-    void completePass();
+    // The device film's deposits join the completed passes: `count` passes run together.
+    void completePass(uint32_t count = 1);
     int completedPasses() const { return m_passes; }
     // Per-pass average: sum over passes / passes, in pixel-value units (e_d per deposit).
     Image resolve(float depositEnergy) const;

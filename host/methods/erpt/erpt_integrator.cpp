@@ -18,8 +18,13 @@ namespace pmcr {
 
 namespace {
 
-constexpr uint32_t kRecordChunk = 16384;   // pixels whose records are held at once
-constexpr uint32_t kChainCapacity = 65536; // chains alive at once
+// Records (seed paths) held at once and chains alive at once: on a CPU device what keeps the
+// buffers in its caches; on a GPU enough chains to fill it (hundreds of thousands of threads;
+// issue 38), with the passes run together that it takes.
+constexpr uint32_t kRecordChunkCpu = 16384;
+constexpr uint32_t kChainCapacityCpu = 65536;
+constexpr uint32_t kRecordChunkGpu = 1u << 18;
+constexpr uint32_t kChainCapacityGpu = 1u << 18;
 
 }  // namespace
 
@@ -45,6 +50,9 @@ ErptOptions ErptOptions::fromSettings(const RenderSettings& s) {
     const int cap = s.optionInt("filter-consecutive", 0);
     if (cap < 0) throw Error("--filter-consecutive: expected a count (0 = off)");
     o.filterConsecutive = uint32_t(cap);
+    const int together = s.optionInt("passes-per-batch", 0);
+    if (together < 0 || together > 1024) throw Error("--passes-per-batch: expected 0..1024 (0 = from the device)");
+    o.passesPerBatch = uint32_t(together);
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
@@ -98,13 +106,28 @@ RenderOutput Erpt::render(RenderSession& session) {
 
     Film& film = session.film();
     SplatFilm splat(context, session.width(), session.height());
-    const uint32_t recordChunk = std::min(kRecordChunk, pixels);
+    const bool gpu = !context.isCpuDevice();
+    const uint32_t chainCapacity = gpu ? kChainCapacityGpu : kChainCapacityCpu;
+    // Seed passes run together, S: their seed paths are traced in one set of records and their
+    // chains run side by side, into the same splat film; the image is the film over the passes
+    // either way. The number of chains a pass starts is about pixels k / m (the seed energy in
+    // units of e_d over the chain length), so a GPU takes as many passes as fill
+    // chainCapacity. A deterministic function of the options, the image size and the device.
+    const double chainsPerPass = std::max(1.0, double(pixels) * o.mutationsPerPixel / double(o.chainLength));
+    const uint32_t together =
+        o.passesPerBatch > 0 ? o.passesPerBatch
+        : gpu ? uint32_t(std::clamp(std::floor(double(chainCapacity) / chainsPerPass), 1.0, 64.0))
+              : 1u;
+    // Records: whole pixels' S samples each.
+    const uint32_t recordLimit = gpu ? kRecordChunkGpu : kRecordChunkCpu;
+    const uint32_t chunkPixels = std::max(1u, std::min(pixels, recordLimit / together));
+    const uint32_t recordChunk = chunkPixels * together;
     PathRecords records(context, recordChunk, "erpt seed");
     vk::Buffer counts(context, recordChunk * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       "chain counts", vk::MemoryUsage::Readback);
     vk::Buffer offsets(context, (recordChunk + 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chain offsets");
-    vk::Buffer chains(context, kChainCapacity * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chains");
-    vk::Buffer chainVertices(context, VkDeviceSize(kChainCapacity) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
+    vk::Buffer chains(context, VkDeviceSize(chainCapacity) * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chains");
+    vk::Buffer chainVertices(context, VkDeviceSize(chainCapacity) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chain vertices");
     vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pixel chain stats");
     pixelStats.fill(0);
@@ -127,7 +150,7 @@ RenderOutput Erpt::render(RenderSession& session) {
     gpu::PtPush ptPush{};
     ptPush.source = gpu::PT_SOURCE_TILE;
     ptPush.flags = 0;  // records only: the seed samples reach the image through their chains
-    ptPush.samplesPerPixel = 1;
+    ptPush.samplesPerPixel = together;  // record i S + k: the pixel's sample of pass + k
     ptPush.seed = settings.seed;
     ptPush.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
     ptPush.rrDepth = settings.rrDepth;
@@ -148,25 +171,39 @@ RenderOutput Erpt::render(RenderSession& session) {
 
     uint64_t chainsStarted = 0;
     uint64_t chainSteps = 0;  // mutations run, each depositing e_d in total (equal deposition)
-    DispatchSizer sizer(4096, kChainCapacity, session.targetDispatchSeconds());
-    auto submit = [&]() { batches.submit(); };
+    uint64_t submissions = 0;
+    DispatchSizer sizer(4096, chainCapacity, session.targetDispatchSeconds());
+    // Dispatches per submission: a batch lasts about targetBatchSeconds.
+    const uint32_t dispatchesPerBatch =
+        uint32_t(std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
+    auto submit = [&]() {
+        batches.submit();
+        ++submissions;
+    };
     auto beginBatch = [&]() { batches.begin(); };
     if (depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
-        for (uint32_t pass = 0; pass < spp && !session.shouldStop(); ++pass) {
+        PassClock clock(session);
+        for (uint32_t pass = 0; pass < spp && clock.startPass();) {
+            // This batch of passes: S, or what --spp leaves.
+            const uint32_t passesNow = std::min(together, spp - pass);
             push.pass = pass;
+            ptPush.samplesPerPixel = passesNow;
             bool interrupted = false;
-            for (uint32_t first = 0; first < pixels && !interrupted; first += recordChunk) {
-                const uint32_t n = std::min(recordChunk, pixels - first);
+            for (uint32_t first = 0; first < pixels && !interrupted; first += chunkPixels) {
+                const uint32_t nPixels = std::min(chunkPixels, pixels - first);
+                const uint32_t n = nPixels * passesNow;  // records
                 // Seed samples and their chain counts.
                 beginBatch();
                 batch.bind(ptWork);
                 ptPush.pixelOffset = first;
-                ptPush.invocationCount = n;
+                ptPush.invocationCount = nPixels;
                 ptPush.sampleBase = pass;
                 ptPush.recordOffset = 0;
                 // pt_record.comp takes several paths per invocation in turn on a CPU device.
-                ptPush.itemsPerInvocation = ptItemsPerInvocation(session.context(), n);
-                batch.dispatch(recordKernel, ptPush, (n + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
+                // (Tile mode: the items are the pixels, each with all its S samples.)
+                ptPush.itemsPerInvocation = ptItemsPerInvocation(session.context(), nPixels);
+                batch.dispatch(recordKernel, ptPush,
+                               (nPixels + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
                 batch.bind(work);
                 push.recordCount = n;
                 batch.dispatch(countKernel, push, n);
@@ -184,32 +221,41 @@ RenderOutput Erpt::render(RenderSession& session) {
                 offsets.upload(prefix.data(), prefix.size() * sizeof(uint32_t));
                 chainsStarted += total;
 
-                // Run the chains, kChainCapacity at a time, a few mutations per dispatch.
-                for (uint64_t start = 0; start < total && !interrupted; start += kChainCapacity) {
-                    const uint32_t group = uint32_t(std::min<uint64_t>(kChainCapacity, total - start));
+                // Run the chains, chainCapacity at a time, a few mutations per dispatch and a
+                // few dispatches per submission.
+                for (uint64_t start = 0; start < total && !interrupted; start += chainCapacity) {
+                    const uint32_t group = uint32_t(std::min<uint64_t>(chainCapacity, total - start));
                     beginBatch();
                     batch.bind(work);
                     push.chainOffset = uint32_t(start);
                     push.chainBase = 0;
                     push.chainCount = group;
                     batch.dispatch(seedKernel, push, group);
+                    uint32_t inBatch = 0;
+                    uint64_t batchUnits = 0;
+                    auto batchStart = std::chrono::steady_clock::now();
                     for (uint32_t done = 0; done < o.chainLength;) {
                         push.steps = std::min(o.stepsPerDispatch, o.chainLength - done);
                         for (uint32_t c = 0; c < group;) {
                             push.chainBase = c;
                             push.chainCount = std::min(sizer.units(), group - c);
-                            const auto t0 = std::chrono::steady_clock::now();
                             batch.dispatch(chainKernel, push, push.chainCount);
                             chainSteps += uint64_t(push.chainCount) * push.steps;
-                            submit();
-                            sizer.record(push.chainCount, std::chrono::duration<double>(
-                                                              std::chrono::steady_clock::now() - t0).count());
+                            batchUnits += push.chainCount;
                             c += push.chainCount;
+                            if (++inBatch < dispatchesPerBatch) continue;
+                            submit();
+                            const double seconds = std::chrono::duration<double>(
+                                std::chrono::steady_clock::now() - batchStart).count();
+                            sizer.record(batchUnits / inBatch, seconds / inBatch);
+                            inBatch = 0;
+                            batchUnits = 0;
                             beginBatch();
                             batch.bind(work);
+                            batchStart = std::chrono::steady_clock::now();
                         }
                         done += push.steps;
-                        if (session.interrupted()) {
+                        if (clock.abandon()) {
                             interrupted = true;
                             break;
                         }
@@ -218,7 +264,9 @@ RenderOutput Erpt::render(RenderSession& session) {
                 }
             }
             if (interrupted) break;
-            completeRedistributionPass(session, splat, depositEnergy, pixels, pass, spp);
+            pass += passesNow;
+            completeRedistributionPass(session, splat, depositEnergy, pixels, pass - 1, spp, passesNow);
+            clock.passDone();
         }
     }
     session.progress().finish();
@@ -253,6 +301,8 @@ RenderOutput Erpt::render(RenderSession& session) {
         {"seed_energy", seedEnergy},        // in units of e_d, all passes
         {"deposited_energy", depositedEnergy},
         {"chain_steps", chainSteps},
+        {"passes_per_batch", together},
+        {"submissions", submissions},
         // The chains' energy that did not land, relative to the e_d per step they carry: zero by
         // construction (a rejected or invalid proposal still deposits at the current path), up
         // to float rounding of the sums; only dropped deposits (NaN, biased filters) make it
@@ -280,6 +330,7 @@ MethodInfo erptMethod() {
              {"expected-values", "off", "deposit a e_d at the proposal and (1-a) e_d at the current path"},
              {"redistribute", "indirect", "all seed paths, or indirect: the emitter seen directly and direct light at the first hit are deposited at their pixel"},
              {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
+             {"passes-per-batch", "0", "seed passes whose chains run together (0: 1 on a CPU device, enough to fill a GPU)"},
              {"filter-proposals", "0", "proposed-mutation filter box radius (ERPT 4.4)", true},
              {"filter-consecutive", "0", "cap on consecutive deposits per pixel (ERPT 4.4)", true}})
         options.push_back(o);

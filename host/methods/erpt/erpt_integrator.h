@@ -31,6 +31,7 @@ struct ErptOptions {
     int filterProposalsRadius = 0;      // biased: box radius of the proposal filter (3 = 7x7)
     uint32_t filterConsecutive = 0;     // biased: cap on consecutive deposits on a pixel
     uint32_t stepsPerDispatch = 4;
+    uint32_t passesPerBatch = 0;        // seed passes run together (0: from the device)
 
     static ErptOptions fromSettings(const RenderSettings& settings);
 };
