@@ -263,6 +263,13 @@ void PhotonMap::preparePass(uint32_t pass, vk::DescriptorSet& work) {
     build(pass);
 }
 
+void PhotonMap::bindPass(vk::DescriptorSet& work) const {
+    work.bind(gpu::PM_BINDING_SLOTS, m_slots);
+    work.bind(gpu::PM_BINDING_INFO, m_infoBuffer);
+    if (m_photonBuffer.valid()) work.bind(gpu::PM_BINDING_PHOTONS, m_photonBuffer);
+    if (m_cells.valid()) work.bind(gpu::PM_BINDING_CELLS, m_cells);
+}
+
 nlohmann::json PhotonMap::stats() {
     const Counters& c = m_session.counters();
     nlohmann::json j;

@@ -76,6 +76,8 @@ public:
     // Pass `pass`'s map: shoots new photons and builds their grid at this pass's radius when the
     // map is progressive or not built yet, then points `work`'s photon bindings at it.
     void preparePass(uint32_t pass, vk::DescriptorSet& work);
+    // Points another work set (a second batch in flight) at this pass's photon buffers too.
+    void bindPass(vk::DescriptorSet& work) const;
 
     double radius() const { return m_info.radius; }
     // The last pass's photons in path order (as shot, before the grid sort).

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "image/tvi.h"
 #include "scene/scene.h"
 
@@ -38,35 +39,39 @@ double sampleVariance(double sum, double sumSq, double n) {
 std::vector<double> neighbourMixtureWeights(const std::vector<double>& v, int width, int height,
                                             double epsilon, int radius) {
     const size_t pixels = size_t(width) * size_t(height);
+    constexpr size_t kRowsPerBlock = 8;  // the rows of the image go to the cores in these blocks
     // a_j = mean of v over j's neighbours, alpha'_j = sqrt(a_j), Z = sum alpha'.
     std::vector<double> mean(pixels), count(pixels), alphaPrime(pixels);
-    double z = 0.0;
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const size_t j = size_t(y) * width + x;
-            const auto [m, n] = neighbourMean(v, width, height, x, y, radius);
-            mean[j] = m;
-            count[j] = n;
-            alphaPrime[j] = std::sqrt(std::max(0.0, m));
-            z += alphaPrime[j];
-        }
+    parallelFor(size_t(height), kRowsPerBlock, [&](size_t y0, size_t y1) {
+        for (int y = int(y0); y < int(y1); ++y)
+            for (int x = 0; x < width; ++x) {
+                const size_t j = size_t(y) * width + x;
+                const auto [m, n] = neighbourMean(v, width, height, x, y, radius);
+                mean[j] = m;
+                count[j] = n;
+                alphaPrime[j] = std::sqrt(std::max(0.0, m));
+            }
+    });
+    const double z = parallelSum(pixels, kRowsPerBlock * size_t(width), [&](size_t j) { return alphaPrime[j]; });
     std::vector<double> alpha(pixels);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const size_t i = size_t(y) * width + x;
-            // Z_-i: the neighbours j of i (those whose means include v_i) without v_i.
-            double zWithout = z;
-            for (int dy = -radius; dy <= radius; ++dy)
-                for (int dx = -radius; dx <= radius; ++dx) {
-                    const int nx = x + dx, ny = y + dy;
-                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-                    const size_t j = size_t(ny) * width + nx;
-                    zWithout -= alphaPrime[j] - std::sqrt(std::max(0.0, mean[j] - v[i] / count[j]));
-                }
-            // PMC-IP sec. 4.2 with the leave-one-out weight (see the header).
-            alpha[i] = zWithout > 0.0 ? epsilon / double(pixels) + (1.0 - epsilon) * alphaPrime[i] / zWithout
-                                      : 1.0 / double(pixels);
-        }
+    parallelFor(size_t(height), kRowsPerBlock, [&](size_t y0, size_t y1) {
+        for (int y = int(y0); y < int(y1); ++y)
+            for (int x = 0; x < width; ++x) {
+                const size_t i = size_t(y) * width + x;
+                // Z_-i: the neighbours j of i (those whose means include v_i) without v_i.
+                double zWithout = z;
+                for (int dy = -radius; dy <= radius; ++dy)
+                    for (int dx = -radius; dx <= radius; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+                        const size_t j = size_t(ny) * width + nx;
+                        zWithout -= alphaPrime[j] - std::sqrt(std::max(0.0, mean[j] - v[i] / count[j]));
+                    }
+                // PMC-IP sec. 4.2 with the leave-one-out weight (see the header).
+                alpha[i] = zWithout > 0.0 ? epsilon / double(pixels) + (1.0 - epsilon) * alphaPrime[i] / zWithout
+                                          : 1.0 / double(pixels);
+            }
+    });
     return alpha;
 }
 
@@ -121,11 +126,13 @@ std::vector<double> ImagePlaneSampler::pilotPerceptualVariance() const {
     }
     if (m_sumPilots) m_sumPilots(moments);
     std::vector<double> v(pixels, 0.0);
-    for (size_t i = 0; i < pixels; ++i) {
-        const double sum = moments[3 * i], sumSq = moments[3 * i + 1], n = moments[3 * i + 2];
-        if (n < 2.0) continue;
-        v[i] = sampleVariance(sum, sumSq, n) / tvi(sum / n, m_options.displayWhite);
-    }
+    parallelFor(pixels, 16384, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const double sum = moments[3 * i], sumSq = moments[3 * i + 1], n = moments[3 * i + 2];
+            if (n < 2.0) continue;
+            v[i] = sampleVariance(sum, sumSq, n) / tvi(sum / n, m_options.displayWhite);
+        }
+    });
     return v;
 }
 

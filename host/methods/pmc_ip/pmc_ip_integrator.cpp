@@ -1,6 +1,7 @@
 #include "methods/pmc_ip/pmc_ip_integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -124,22 +125,41 @@ RenderOutput PmcIp::render(RenderSession& session) {
                                  ? std::max(double(settings.spp), double(m_options.initialSpp))
                                  : double(m_options.initialSpp) + double(iterations) * m_options.samplesPerIteration;
 
-    const uint32_t capacity = kMaxRequestsInFlight;
-    vk::Buffer requestBuffer(context, uint64_t(capacity) * sizeof(gpu::SampleRequest),
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip requests");
-    vk::Buffer resultBuffer(context, uint64_t(capacity) * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                            "pmc-ip results", vk::MemoryUsage::Readback);
-    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-ip work");
-    work.bind(gpu::PT_BINDING_FILM, film.pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, film.counters());
-    work.bind(gpu::PT_BINDING_REQUESTS, requestBuffer);
-    work.bind(gpu::PT_BINDING_RESULTS, resultBuffer);
+    // Two batches in flight (issue 38): while the device traces one, the host reduces the
+    // other's results and writes the next one's requests. Each has its own requests, results,
+    // counters and (PMC-HI) final weights, bound by its own descriptor set.
+    const uint32_t capacity = kMaxRequestsInFlight / 2;
+    struct BatchSlot {
+        vk::Buffer requests, results, counters, alphaOut;
+        std::unique_ptr<vk::DescriptorSet> work;
+        std::unique_ptr<vk::CommandBatch> batch;
+        std::vector<gpu::SampleRequest> list;
+        uint32_t dispatches = 0;
+        std::chrono::steady_clock::time_point submitted;
+        bool pending = false;
+    };
+    std::array<BatchSlot, 2> slots;
+    for (size_t i = 0; i < slots.size(); ++i) {
+        BatchSlot& slot = slots[i];
+        const std::string tag = " " + std::to_string(i);
+        slot.requests = vk::Buffer(context, uint64_t(capacity) * sizeof(gpu::SampleRequest),
+                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip requests" + tag, vk::MemoryUsage::Upload);
+        slot.results = vk::Buffer(context, uint64_t(capacity) * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  "pmc-ip results" + tag, vk::MemoryUsage::Readback);
+        slot.counters = Film::makeCounters(context, "pmc-ip counters" + tag);
+        slot.work = std::make_unique<vk::DescriptorSet>(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-ip work" + tag);
+        slot.work->bind(gpu::PT_BINDING_FILM, film.pixels());
+        slot.work->bind(gpu::PT_BINDING_COUNTERS, slot.counters);
+        slot.work->bind(gpu::PT_BINDING_REQUESTS, slot.requests);
+        slot.work->bind(gpu::PT_BINDING_RESULTS, slot.results);
+        slot.batch = std::make_unique<vk::CommandBatch>(session.layout(), &session.timer());
+    }
 
     // PMC-HI feedback: the auxiliary image of starting weights (per pixel), each request's final
     // weights, and this iteration's per-pixel sums of them (count last).
     const bool pmcHi = m_estimator == Estimator::PmcHi || m_estimator == Estimator::PhotonGather;
     gpu::PmcHiPush hiPush{};
-    vk::Buffer alphaStart, alphaOut;
+    vk::Buffer alphaStart;
     std::vector<float> auxiliary, iterationSums, requestAlpha;
     if (pmcHi) {
         hiPush.hi = pmcHiParamsForScene(m_hi, session.scene());
@@ -149,12 +169,15 @@ RenderOutput PmcIp::render(RenderSession& session) {
         alphaStart = vk::Buffer(context, VkDeviceSize(pixels) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha");
         alphaStart.fill(0);
-        alphaOut = vk::Buffer(context, VkDeviceSize(capacity) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi final alpha", vk::MemoryUsage::Readback);
-        alphaOut.fill(0);  // the kernel writes the slots in use only
-        work.bind(gpu::PMC_HI_BINDING_ALPHA, session.placeholder());
-        work.bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart);
-        work.bind(gpu::PMC_HI_BINDING_ALPHA_OUT, alphaOut);
+        for (BatchSlot& slot : slots) {
+            slot.alphaOut = vk::Buffer(context, VkDeviceSize(capacity) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
+                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi final alpha",
+                                       vk::MemoryUsage::Readback);
+            slot.alphaOut.fill(0);  // the kernel writes the slots in use only
+            slot.work->bind(gpu::PMC_HI_BINDING_ALPHA, session.placeholder());
+            slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart);
+            slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_OUT, slot.alphaOut);
+        }
     }
 
     gpu::PtPush push{};
@@ -171,10 +194,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // once for the whole render (see image_plane_sampler.h).
     Pcg32 rng(settings.seed, 0x504d432d4950ULL);  // "PMC-IP"
     push.seed = rng.nextUint();
-    std::vector<gpu::SampleRequest> requests;
     std::vector<glm::vec4> results;
     const std::vector<uint32_t> pixelOrder = mortonPixelOrder(film.width(), film.height());
-    vk::CommandBatch batch(session.layout(), &session.timer());
     auto resolve = [&] { return sampler.image(); };
 
     // Host time spent adapting (alpha, DMS) and reducing results, to weigh against the GPU's.
@@ -188,13 +209,60 @@ RenderOutput PmcIp::render(RenderSession& session) {
     std::unique_ptr<PhotonMap> photonMap;
     if (m_estimator == Estimator::PhotonGather) photonMap = std::make_unique<PhotonMap>(session, m_photons, m_options.samplesPerIteration);
 
+    // A batch that completed: its counters and results join the totals and the sampler, in
+    // request order (the same seed gives the same sums), and the sizer learns from its time on
+    // the device (from when it could start: submitted, and the batch before it done).
+    auto lastDone = std::chrono::steady_clock::now();
+    auto finishBatch = [&](BatchSlot& slot) {
+        if (!slot.pending) return;
+        slot.batch->wait();
+        slot.pending = false;
+        const auto now = std::chrono::steady_clock::now();
+        const double seconds = std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
+        lastDone = now;
+        const uint32_t n = uint32_t(slot.list.size());
+        sizer.record(n / slot.dispatches, seconds / slot.dispatches);
+        Film::addCounters(slot.counters, session.counters());
+        const auto reduceStart = std::chrono::steady_clock::now();
+        results.resize(n);
+        slot.results.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
+        for (uint32_t k = 0; k < n; ++k) {
+            const uint32_t pixel = slot.list[k].pixel;
+            sampler.addSample(pixel, slot.list[k].sampleIndex - sampler.sequenceStart(pixel), glm::vec3(results[k]));
+        }
+        if (pmcHi) {
+            // Each pixel's sum of its samples' final weights this iteration.
+            requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
+            slot.alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
+            for (uint32_t k = 0; k < n; ++k) {
+                const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
+                float* sum = &iterationSums[size_t(slot.list[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
+                float total = 0.0f;
+                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
+                if (!(total > 0.0f)) continue;
+                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
+                sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
+            }
+        }
+        reduceSeconds += since(reduceStart);
+        const double sppDone = double(sampler.samplesTaken()) / double(pixels);
+        const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
+                                    ? session.elapsedSeconds() / settings.timeLimit
+                                    : sppDone / budgetSpp;
+        session.progress().update(fraction, sppDone, "spp");
+        session.snapshotIfDue(sampler.samplesTaken(), resolve);
+    };
+
     session.startClock();
     uint64_t iteration = 0;
     for (;; ++iteration) {
         // The ranks run each iteration together: on while any has budget left (a rank whose
         // budget is spent takes no samples), all stop when any must (time, Ctrl-C).
         if (session.shouldStopTogether() || !comm.anyTrue(iteration < totalIterations)) break;
-        if (photonMap) photonMap->preparePass(uint32_t(iteration), work);
+        if (photonMap) {  // (every batch of the iteration before has finished)
+            photonMap->preparePass(uint32_t(iteration), *slots[0].work);
+            photonMap->bindPass(*slots[1].work);
+        }
         const auto adaptStart = std::chrono::steady_clock::now();
         // The last iteration of a --spp budget takes only what is left of it.
         // (None once it is spent: a rank whose share ends sooner still joins the iterations.)
@@ -208,7 +276,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         // points of its sequence.
         uint32_t next = 0;  // position in pixelOrder
         uint32_t index = 0;
-        auto nextRequests = [&](uint32_t wanted) {
+        auto nextRequests = [&](std::vector<gpu::SampleRequest>& requests, uint32_t wanted) {
             requests.clear();
             while (requests.size() < wanted && next < pixels) {
                 const uint32_t pixel = pixelOrder[next];
@@ -220,17 +288,19 @@ RenderOutput PmcIp::render(RenderSession& session) {
                 requests.push_back({pixel, sampler.sequenceStart(pixel) + index++, glm::vec2(0.0f)});
             }
         };
-        for (;;) {
+        for (size_t turn = 0;; ++turn) {
             if (session.shouldStop()) break;
-            const auto batchStart = std::chrono::steady_clock::now();
+            BatchSlot& slot = slots[turn % 2];
+            finishBatch(slot);  // its results are needed before its buffers are written again
             const uint32_t units = sizer.units();
-            nextRequests(std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch));
-            if (requests.empty()) break;
-            requestBuffer.upload(requests);
-            batch.fill(film.counters(), 0);
+            nextRequests(slot.list, uint32_t(std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch)));
+            if (slot.list.empty()) break;
+            slot.requests.upload(slot.list);
+            vk::CommandBatch& batch = *slot.batch;
+            batch.fill(slot.counters, 0);
             batch.bind(session.scene().descriptorSet());
-            batch.bind(work);
-            const uint32_t n = uint32_t(requests.size());
+            batch.bind(*slot.work);
+            const uint32_t n = uint32_t(slot.list.size());
             for (uint32_t offset = 0; offset < n; offset += units) {
                 push.requestOffset = offset;
                 push.recordOffset = offset;  // pmc_hi.comp: request i's final alpha at i
@@ -246,43 +316,14 @@ RenderOutput PmcIp::render(RenderSession& session) {
                     batch.dispatch(kernel, push, (push.invocationCount + perInvocation - 1) / perInvocation);
                 }
             }
-            const uint32_t dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
-            batch.submitAndWait();
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count();
-            sizer.record(n / dispatches, seconds / dispatches);
-            film.addCounters(session.counters());
-            // Reduce in request order: the same seed gives the same sums.
-            const auto reduceStart = std::chrono::steady_clock::now();
-            results.resize(n);
-            resultBuffer.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
-            for (uint32_t k = 0; k < n; ++k) {
-                const uint32_t pixel = requests[k].pixel;
-                sampler.addSample(pixel, requests[k].sampleIndex - sampler.sequenceStart(pixel), glm::vec3(results[k]));
-            }
-            if (pmcHi) {
-                // Each pixel's sum of its samples' final weights this iteration.
-                requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
-                alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
-                for (uint32_t k = 0; k < n; ++k) {
-                    const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
-                    float* sum = &iterationSums[size_t(requests[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
-                    float total = 0.0f;
-                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
-                    if (!(total > 0.0f)) continue;
-                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
-                    sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
-                }
-            }
-            reduceSeconds += since(reduceStart);
-
-            const double sppDone = double(sampler.samplesTaken()) / double(pixels);
-            const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
-                                        ? session.elapsedSeconds() / settings.timeLimit
-                                        : sppDone / budgetSpp;
-            session.progress().update(fraction, sppDone, "spp");
-            session.snapshotIfDue(sampler.samplesTaken(), resolve);
+            slot.dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
+            slot.submitted = std::chrono::steady_clock::now();
+            batch.submit();
+            slot.pending = true;
+            // While it runs: the batch before it.
+            finishBatch(slots[(turn + 1) % 2]);
         }
+        for (BatchSlot& slot : slots) finishBatch(slot);
         sampler.finishIteration();
         if (pmcHi) {
             if (comm.distributed()) comm.allReduceSum(iterationSums);
