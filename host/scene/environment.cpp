@@ -9,26 +9,26 @@
 
 #include <stb_image.h>  // Radiance .hdr (the implementation is compiled in gltf_loader.cpp)
 
+#include "core/decimal.h"
 #include "core/error.h"
 
 namespace pmcr {
 
 namespace {
 
-// "R,G,B" as three finite numbers, or false when `text` is not of that form.
+// "R,G,B" as three decimal numbers (core/decimal.h: "0x10,1,1" is not 16,1,1), or false when
+// `text` is not of that form.
 bool parseTriple(const std::string& text, glm::vec3& out) {
-    const char* p = text.c_str();
+    size_t at = 0;
     for (int i = 0; i < 3; ++i) {
-        char* end = nullptr;
-        out[i] = std::strtof(p, &end);
-        if (end == p) return false;
-        p = end;
-        if (i < 2) {
-            if (*p != ',') return false;
-            ++p;
-        }
+        const size_t comma = i < 2 ? text.find(',', at) : text.size();
+        if (comma == std::string::npos) return false;
+        const std::string field = text.substr(at, comma - at);
+        if (!isDecimalNumber(field)) return false;
+        out[i] = float(std::strtod(field.c_str(), nullptr));
+        at = comma + 1;
     }
-    return *p == '\0';
+    return true;
 }
 
 Image readRadianceHdr(const std::filesystem::path& path) {
@@ -65,7 +65,8 @@ Environment loadEnvironment(const EnvironmentSpec& spec) {
     std::string ext = path.extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".exr" && ext != ".pfm" && ext != ".hdr")
-        fail(spec.value, "--env expects R,G,B or an .exr, .pfm or .hdr image");
+        fail(spec.value,
+             "--env expects R,G,B (three decimal numbers) or an .exr, .pfm or .hdr image");
     env.image = ext == ".hdr" ? readRadianceHdr(path) : readHdr(path);
     if (env.image.width < 1 || env.image.height < 1) fail(spec.value, "empty image");
     if (uint64_t(env.image.width) * uint64_t(env.image.height) > (1u << 26))
