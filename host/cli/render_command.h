@@ -18,6 +18,7 @@ struct RenderCommand {
     bool noPng = false;
     float exposure = 0.0f;
     bool stats = false;
+    bool verbose = false;        // print warnings as they come, not once the render goes ahead
 };
 
 RenderCommand parseRenderCommand(Args& args);

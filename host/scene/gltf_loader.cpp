@@ -443,8 +443,6 @@ void GltfLoader::parseGlb(tinygltf::TinyGLTF& gltf, const std::vector<unsigned c
         error("truncated GLB: the header says " + std::to_string(length) + " bytes, the file has " +
               std::to_string(size));
     }
-    if (length < size)
-        warnOnce("ignoring " + std::to_string(size - length) + " bytes after the GLB");
     if (length < 20)
         error("truncated GLB: no JSON chunk");
     const uint64_t jsonLength = u32(12);
@@ -479,6 +477,10 @@ void GltfLoader::parseGlb(tinygltf::TinyGLTF& gltf, const std::vector<unsigned c
         kMaxJsonDepth) {
         error("JSON nested more than " + std::to_string(kMaxJsonDepth) + " levels deep");
     }
+    // Only a container that holds together has bytes "after" it: a header length of 0 or one
+    // short of its chunks is an error above, not this warning.
+    if (length < size)
+        warnOnce("ignoring " + std::to_string(size - length) + " bytes after the GLB");
     bool ok = false;
     try {
         ok = gltf.LoadBinaryFromMemory(&m_model, &err, &warn, bytes.data(), unsigned(length),
@@ -845,6 +847,10 @@ Texture GltfLoader::decodeImage(int index) {
     } else if (!image.image.empty()) {
         bytes = image.image.data();
         size = image.image.size();
+    } else if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0) {
+        // tinygltf only warned (held until the render goes ahead): say here why.
+        error(label + " could not be read: uri " + inQuotes(image.uri) +
+              " names no readable regular file");
     } else {
         error(label + " could not be read");
     }

@@ -1149,6 +1149,25 @@ TEST(GltfLoaderErrors, ZeroAreaTrianglesAreDroppedWithOneWarning) {
     EXPECT_EQ(countOf(warnings, "dropped 2 of 5 triangles with zero area"), 1u) << warnings;
 }
 
+// A GLB whose header's total length is short of its chunks is an error, with no warning about
+// bytes "after" it printed first (issue 42).
+TEST(GltfLoaderErrors, ShortGlbLengthIsAnErrorWithoutAWarning) {
+    GltfBuilder b = basicScene();
+    std::vector<uint8_t> glb = b.glb();
+    glb[8] = 16;  // total length 16, little-endian
+    glb[9] = glb[10] = glb[11] = 0;
+    const fs::path path = test::tempDir("short-length") / "short.glb";
+    writeBytes(path, glb);
+    testing::internal::CaptureStderr();
+    try {
+        loadScene(path);
+        ADD_FAILURE() << "loaded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("truncated GLB"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
 // Truncated and corrupted copies of valid files load or fail with a pmcr::Error: never a crash,
 // a hang or another exception type.
 TEST(GltfLoaderErrors, SurvivesTruncationAndCorruption) {
