@@ -1,7 +1,9 @@
 #include "scene/environment.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -31,6 +33,17 @@ bool parseTriple(const std::string& text, glm::vec3& out) {
     return true;
 }
 
+bool allFinite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// --env-scale as the user wrote it, near enough ("1e+30", not 31 digits).
+std::string scaleText(float scale) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", double(scale));
+    return text;
+}
+
 Image readRadianceHdr(const std::filesystem::path& path) {
     int w = 0, h = 0, channels = 0;
     std::unique_ptr<float, void (*)(void*)> data(
@@ -55,10 +68,13 @@ Environment loadEnvironment(const EnvironmentSpec& spec) {
     env.rotation = glm::radians(spec.rotateDegrees);
     glm::vec3 constant;
     if (parseTriple(spec.value, constant)) {
-        if (!std::isfinite(constant.x + constant.y + constant.z) || glm::any(glm::lessThan(constant, glm::vec3(0.0f))))
+        if (!allFinite(constant) || glm::any(glm::lessThan(constant, glm::vec3(0.0f))))
             fail(spec.value, "environment radiance must be finite and >= 0");
         env.kind = gpu::ENV_CONSTANT;
         env.radiance = constant * spec.scale;
+        if (!allFinite(env.radiance))
+            fail(spec.value, "environment radiance overflows 32-bit floats when scaled by "
+                             "--env-scale " + scaleText(spec.scale));
         return env;
     }
     const std::filesystem::path path(spec.value);
@@ -71,8 +87,15 @@ Environment loadEnvironment(const EnvironmentSpec& spec) {
     if (env.image.width < 1 || env.image.height < 1) fail(spec.value, "empty image");
     if (uint64_t(env.image.width) * uint64_t(env.image.height) > (1u << 26))
         fail(spec.value, "environment image too large (more than 2^26 pixels)");
-    for (float v : env.image.rgb)
+    float brightest = 0.0f;
+    for (float v : env.image.rgb) {
         if (!std::isfinite(v) || v < 0.0f) fail(spec.value, "environment image has negative, NaN or infinite pixels");
+        brightest = std::max(brightest, v);
+    }
+    // The kernels scale each pixel by --env-scale in 32-bit floats.
+    if (!std::isfinite(brightest * spec.scale))
+        fail(spec.value, "environment radiance overflows 32-bit floats when scaled by "
+                         "--env-scale " + scaleText(spec.scale));
     env.kind = gpu::ENV_IMAGE;
     return env;
 }

@@ -23,8 +23,8 @@ struct EnvironmentSpec {
 };
 
 // Loads what `spec` names; throws pmcr::Error "<file or value>: <problem>" for a missing or
-// unreadable file, a malformed value (R,G,B are decimal numbers), or negative, NaN or
-// infinite radiance.
+// unreadable file, a malformed value (R,G,B are decimal numbers), negative, NaN or infinite
+// radiance, or radiance that overflows 32-bit floats once scaled by --env-scale.
 Environment loadEnvironment(const EnvironmentSpec& spec);
 
 // The importance-sampling table of an ENV_IMAGE environment: one alias-table entry per pixel

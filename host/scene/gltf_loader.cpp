@@ -1245,7 +1245,11 @@ void GltfLoader::addLight(int nodeIndex, const tinygltf::Value& extension, const
     } else {
         error(label + " has unknown type " + inQuotes(src.type));
     }
-    if (luminance(light.intensity) > 0.0f) m_scene.punctualLights.push_back(light);
+    if (luminance(light.intensity) > 0.0f) {
+        m_scene.punctualLights.push_back(light);
+        m_scene.punctualLightNames.push_back(
+            src.name.empty() ? label : label + " (" + inQuotes(src.name) + ")");
+    }
 }
 
 void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat4& world) {

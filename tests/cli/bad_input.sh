@@ -153,6 +153,40 @@ expect_error "image uri a directory" "directory-image\.gltf.*folder\.png" -- ren
 expect_error "image uri a device file" "device-image\.gltf.*device\.png" -- render "$tmp/device-image.gltf" -o "$tmp/out/x.exr"
 expect_error "camera out of range, no device line" "furnace\.glb.*--camera 5 out of range" -- render "$src/scenes/furnace.glb" --camera 5 -o "$tmp/out/x.exr"
 
+# Lights whose power overflows 32-bit floats, named; scenes whose lights have no power at all.
+punctual() {  # punctual NAME TYPE INTENSITY: the unlit triangle of nolight.gltf under one light
+    cat >"$tmp/$1.gltf" <<GLTF
+{"asset":{"version":"2.0"},"extensionsUsed":["KHR_lights_punctual"],
+ "extensions":{"KHR_lights_punctual":{"lights":[{"type":"$2","intensity":$3,"name":"lamp"}]}},
+ "scene":0,"scenes":[{"nodes":[0,1]}],
+ "nodes":[{"mesh":0},{"translation":[0.2,0.2,1],"extensions":{"KHR_lights_punctual":{"light":0}}}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+ "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+ "bufferViews":[{"buffer":0,"byteLength":36}],
+ "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]}
+GLTF
+}
+punctual point-1e39 point 1e39
+punctual point-3e38 point 3e38
+punctual sun-1e39 directional 1e39
+punctual sun-3e38 directional 3e38
+for light in point-1e39 point-3e38 sun-1e39 sun-3e38; do
+    for method in pt erpt; do
+        expect_error "$light light, $method" "$light\.gltf: light 0 \('lamp'\): its power overflows" -- render "$tmp/$light.gltf" --method $method -o "$tmp/out/x.exr"
+    done
+done
+# Equirectangular PFM skies, 2 x 1 pixels (little-endian: scale -1): every pixel 3e38, or black.
+{ printf 'PF\n2 1\n-1\n'; for i in 1 2 3 4 5 6; do printf '\xe6\xb1\x61\x7f'; done; } >"$tmp/bright.pfm"
+{ printf 'PF\n2 1\n-1\n'; head -c 24 /dev/zero; } >"$tmp/black.pfm"
+expect_error "environment of 3e38 pixels" "nolight\.gltf: environment '.*bright\.pfm': its power overflows" -- render "$tmp/nolight.gltf" --env "$tmp/bright.pfm" -o "$tmp/out/x.exr"
+expect_error "environment overflowing when scaled" "1e30,1,1: .*overflows.*--env-scale" -- render "$tmp/nolight.gltf" --env 1e30,1,1 --env-scale 1e30 -o "$tmp/out/x.exr"
+expect_error "black constant environment" "nolight\.gltf: no light" -- render "$tmp/nolight.gltf" --env 0,0,0 -o "$tmp/out/x.exr"
+expect_error "environment scaled to zero" "nolight\.gltf: no light" -- render "$tmp/nolight.gltf" --env 1,1,1 --env-scale 0 -o "$tmp/out/x.exr"
+expect_error "black environment image" "nolight\.gltf: no light" -- render "$tmp/nolight.gltf" --env "$tmp/black.pfm" -o "$tmp/out/x.exr"
+for method in erpt pmc-ip mlt pm; do
+    expect_error "black environment, $method" "nolight\.gltf: no light" -- render "$tmp/nolight.gltf" --method $method --env 0,0,0 -o "$tmp/out/x.exr"
+done
+
 # Numbers on the command line are decimal: anything else names its option.
 expect_error "hexadecimal environment" "0x10,1,1: --env expects R,G,B \(three decimal numbers\)" -- render "$src/scenes/furnace.glb" --env 0x10,1,1 -o "$tmp/out/x.exr"
 expect_error "hexadecimal samples" "--spp: .*'0x10'" -- render "$src/scenes/furnace.glb" --spp 0x10 -o "$tmp/out/x.exr"

@@ -561,6 +561,17 @@ TEST(GltfLoader, PunctualLights) {
     expectLoadError(build(json::array({{{"type", "point"}, {"intensity", -1.0}}}), {lightNode(0, json::object())})
                         .writeGltf(dir, "negative"),
                     ">= 0");
+    // Issue 42: a light whose power overflows the device's 32-bit floats is named, whether its
+    // intensity does (1e39) or only 4 pi I does (3e38); a directional light's at radius 1 or more.
+    for (const char* type : {"point", "directional"}) {
+        for (double intensity : {1e39, 3e38}) {
+            const std::string name = std::string(type) + std::to_string(int(std::log10(intensity)));
+            expectLoadError(build(json::array({{{"type", type}, {"intensity", intensity}, {"name", "lamp"}}}),
+                                  {lightNode(0, json::object())})
+                                .writeGltf(dir, name),
+                            "light 0 ('lamp'): its power overflows 32-bit floats");
+        }
+    }
 }
 
 TEST(GltfLoader, RejectsInvalidMaterialValues) {
@@ -1137,6 +1148,25 @@ TEST(GltfLoaderErrors, AllTrianglesDegenerate) {
     const int light = b.material({{"emissiveFactor", {1.0, 1.0, 1.0}}});
     b.node({{"mesh", b.triangles({{0, 2, 0}, {1, 2, 0}, {2, 2, 0}}, light)}});  // collinear
     expectLoadError(b.writeGltf(test::tempDir("flat"), "flat"), "degenerate");
+}
+
+// Issue 42: lights that together have no power render black; the scene is refused like one
+// without light.
+TEST(GltfLoaderErrors, LightsOfZeroPower) {
+    GltfBuilder b;
+    b.node({{"mesh", b.triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, -1)}});
+    const fs::path path = b.writeGltf(test::tempDir("black-sky"), "black");
+    for (const EnvironmentSpec& env : {EnvironmentSpec{"0,0,0"}, EnvironmentSpec{"1,1,1", 0.0f, 0.0f}}) {
+        try {
+            testing::internal::CaptureStderr();
+            loadScene(path, env);
+            testing::internal::GetCapturedStderr();
+            ADD_FAILURE() << env.value << " loaded";
+        } catch (const Error& e) {
+            testing::internal::GetCapturedStderr();
+            EXPECT_NE(std::string(e.what()).find("black.gltf: no light"), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST(GltfLoaderErrors, ZeroAreaTrianglesAreDroppedWithOneWarning) {
