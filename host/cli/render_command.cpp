@@ -40,6 +40,7 @@ RenderCommand parseRenderCommand(Args& args) {
         else if (a == "--stats") c.stats = true;
         else if (a == "--quiet" || a == "-q") s.quiet = true;
         else if (a == "--verbose") c.verbose = true;
+        else if (a == "--restrict-paths") c.restrictPaths = true;
         else if (parseEnvironmentOption(a, args, c.environment)) continue;
         else if (a.rfind("--", 0) == 0 && a.size() > 2) {
             // A method's option. Check the name before taking a value, so that an unknown flag
@@ -88,7 +89,7 @@ int runRender(const RenderCommand& command) {
     onEveryRank(comm, [&] {
         paths = resolveOutputPaths(command.scene, command.output, command.png, command.noPng,
                                    command.exposure);
-        scene = loadScene(command.scene, command.environment);
+        scene = loadScene(command.scene, command.environment, {command.restrictPaths});
         resolveImageSize(scene, requested);
         settings = rankSettings(requested, findMethod(requested.method)->create(requested)->defaultSpp(), comm);
     });
@@ -196,6 +197,8 @@ void printRenderHelp() {
         "  -q, --quiet          no progress bar or messages\n"
         "  --verbose            print warnings as they come (by default they wait until the\n"
         "                       render starts, and an error is the only line printed)\n"
+        "  --restrict-paths     refuse buffers, images and environment images outside the\n"
+        "                       scene's folder (for scenes from others; docs/scenes.md)\n"
         "\n"
         "Ctrl-C stops the render and still writes the image so far (exit status 130).\n"
         "\n"

@@ -19,6 +19,7 @@ struct RenderCommand {
     float exposure = 0.0f;
     bool stats = false;
     bool verbose = false;        // print warnings as they come, not once the render goes ahead
+    bool restrictPaths = false;  // the scene's files must lie in its folder (scene/gltf_loader.h)
 };
 
 RenderCommand parseRenderCommand(Args& args);

@@ -13,6 +13,7 @@
 
 #include "core/decimal.h"
 #include "core/error.h"
+#include "core/paths.h"
 
 namespace pmcr {
 
@@ -59,7 +60,7 @@ Image readRadianceHdr(const std::filesystem::path& path) {
 
 }  // namespace
 
-Environment loadEnvironment(const EnvironmentSpec& spec) {
+Environment loadEnvironment(const EnvironmentSpec& spec, const std::filesystem::path& folder) {
     Environment env;
     if (spec.value.empty()) return env;
     env.source = spec.value;
@@ -83,6 +84,8 @@ Environment loadEnvironment(const EnvironmentSpec& spec) {
     if (ext != ".exr" && ext != ".pfm" && ext != ".hdr")
         fail(spec.value,
              "--env expects R,G,B (three decimal numbers) or an .exr, .pfm or .hdr image");
+    if (!folder.empty() && !isInsideFolder(path, folder))
+        fail(spec.value, "the environment image leaves the scene's folder (--restrict-paths)");
     env.image = ext == ".hdr" ? readRadianceHdr(path) : readHdr(path);
     if (env.image.width < 1 || env.image.height < 1) fail(spec.value, "empty image");
     if (uint64_t(env.image.width) * uint64_t(env.image.height) > (1u << 26))

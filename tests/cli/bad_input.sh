@@ -197,4 +197,28 @@ expect_error "not-a-number scale" "--env-scale: .*'nan'" -- render "$src/scenes/
 expect_error "hexadecimal method option" "--chain-length: .*'0x10'" -- render "$src/scenes/furnace.glb" --method erpt --chain-length 0x10 -o "$tmp/out/x.exr"
 expect_error "exponent in an integer" "--seed: .*'1e3'" -- render "$src/scenes/furnace.glb" --seed 1e3 -o "$tmp/out/x.exr"
 
+# --restrict-paths: no buffer, image or environment outside the scene's folder, links followed.
+mkdir -p "$tmp/farm"
+base64 -d >"$tmp/outside.bin" <<<'AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA'
+ln -s ../outside.bin "$tmp/farm/link.bin"
+external() {  # external NAME BUFFER-URI: nolight.gltf's triangle read from a buffer file
+    sed "s|data:application/octet-stream;base64,[A-Za-z0-9+/=]*|$2|" "$tmp/nolight.gltf" >"$tmp/farm/$1.gltf"
+}
+external up ../outside.bin
+external passwd ../../../../../../../../../../../../etc/passwd
+external link link.bin
+cp "$tmp/missing-image.gltf" "$tmp/farm/image-up.gltf"
+sed -i 's|"missing.png"|"../device.png"|' "$tmp/farm/image-up.gltf"
+sed 's|"scene":0|"extras":{"pmcr":{"environment":"../bright.pfm"}},"scene":0|' "$tmp/nolight.gltf" >"$tmp/farm/sky-up.gltf"
+expect_error "restricted buffer outside" "up\.gltf: uri '\.\./outside\.bin' leaves the scene's folder" -- render "$tmp/farm/up.gltf" --restrict-paths --env 1,1,1 -o "$tmp/out/x.exr"
+expect_error "restricted buffer at /etc/passwd" "passwd\.gltf: uri '(\.\./)+etc/passwd' leaves the scene's folder" -- render "$tmp/farm/passwd.gltf" --restrict-paths --env 1,1,1 -o "$tmp/out/x.exr"
+expect_error "restricted buffer through a link" "link\.gltf: uri 'link\.bin' leaves the scene's folder" -- render "$tmp/farm/link.gltf" --restrict-paths --env 1,1,1 -o "$tmp/out/x.exr"
+expect_error "restricted image outside" "image-up\.gltf: uri '\.\./device\.png' leaves the scene's folder" -- render "$tmp/farm/image-up.gltf" --restrict-paths -o "$tmp/out/x.exr"
+expect_error "restricted environment from the scene" "bright\.pfm: the environment image leaves the scene's folder" -- render "$tmp/farm/sky-up.gltf" --restrict-paths -o "$tmp/out/x.exr"
+cp "$tmp/nolight.gltf" "$tmp/farm/inside.gltf"
+expect_error "restricted environment from --env" "black\.pfm: the environment image leaves the scene's folder" -- render "$tmp/farm/inside.gltf" --restrict-paths --env "$tmp/black.pfm" -o "$tmp/out/x.exr"
+# Without it, /etc/passwd is read as a relative path like any other, and refused as a buffer
+# whose size does not match: one line still.
+expect_error "unrestricted buffer at /etc/passwd" "passwd\.gltf: invalid glTF" -- render "$tmp/farm/passwd.gltf" --env 1,1,1 -o "$tmp/out/x.exr"
+
 [ $failures -eq 0 ] || { echo "$failures failure(s)"; exit 1; }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The other side of bad_input.sh (issue 42): a render that goes ahead still prints the warnings
 # of loading, before the device line and the render; --verbose prints them at once, even before
-# an error. Renders are tiny (16x16, 1 spp).
+# an error; relative paths that leave the scene's folder are read unless --restrict-paths, and
+# --restrict-paths takes the files inside it. Renders are tiny (16x16, 1 spp).
 #   warnings_and_paths.sh PMCR SOURCE_DIR
 set -u
 pmcr="$1"
@@ -46,8 +47,33 @@ else
 fi
 [ -e "$tmp/x.exr" ] && fail "a failed render left x.exr"
 
+# A triangle whose buffer lies in the folder above the scene's, lit by a constant sky.
+mkdir -p "$tmp/scene"
+base64 -d >"$tmp/triangle.bin" <<<'AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA'
+cp "$tmp/triangle.bin" "$tmp/scene/triangle.bin"
+gltf() {  # gltf FILE BUFFER-URI
+    cat >"$1" <<GLTF
+{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+ "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
+ "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+ "bufferViews":[{"buffer":0,"byteLength":36}],"buffers":[{"byteLength":36,"uri":"$2"}]}
+GLTF
+}
+gltf "$tmp/scene/up.gltf" ../triangle.bin
+gltf "$tmp/scene/beside.gltf" triangle.bin
+"$pmcr" render "$tmp/scene/up.gltf" --env 1,1,1 "${tiny[@]}" -q -o "$tmp/up.exr" 2>"$tmp/stderr" &&
+    [ -s "$tmp/up.exr" ] && echo "ok   (a relative path out of the folder is read by default)" ||
+    fail "the buffer in the folder above was not read without --restrict-paths"
+"$pmcr" render "$tmp/scene/beside.gltf" --restrict-paths --env 1,1,1 "${tiny[@]}" -q -o "$tmp/beside.exr" 2>"$tmp/stderr" &&
+    [ -s "$tmp/beside.exr" ] && echo "ok   (--restrict-paths reads the files in the folder)" ||
+    fail "--restrict-paths refused a buffer beside the scene"
+# A shipped scene that names its sky (extras.pmcr.environment), beside it.
+"$pmcr" render "$src/scenes/sky-spheres.glb" --restrict-paths "${tiny[@]}" -q -o "$tmp/sky.exr" 2>"$tmp/stderr" &&
+    [ -s "$tmp/sky.exr" ] && echo "ok   (--restrict-paths reads the sky beside the scene)" ||
+    fail "--restrict-paths refused sky-spheres.glb's own sky"
+
 "$pmcr" render --help >"$tmp/help"
-for option in --verbose; do
+for option in --verbose --restrict-paths; do
     grep -q -- "^  $option " "$tmp/help" || fail "render --help lacks $option"
 done
 

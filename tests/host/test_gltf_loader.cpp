@@ -1198,6 +1198,51 @@ TEST(GltfLoaderErrors, ShortGlbLengthIsAnErrorWithoutAWarning) {
     EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
 }
 
+// External files are read relative to the scene's folder, out of it too by default (shared
+// textures); --restrict-paths (SceneLoadOptions::restrictPaths) refuses a buffer, image or
+// environment outside the folder, through ".." or a symbolic link, and reads those inside.
+TEST(GltfLoaderErrors, RestrictPathsKeepsFilesInTheScenesFolder) {
+    const fs::path dir = test::tempDir("restrict");
+    fs::create_directories(dir / "scene");
+    GltfBuilder b = basicScene();
+    writeBytes(dir / "shared.bin", b.bin);
+    writeText(dir / "scene" / "up.gltf", b.text("../shared.bin"));
+    fs::remove(dir / "scene" / "link.bin");
+    fs::create_symlink("../shared.bin", dir / "scene" / "link.bin");
+    writeText(dir / "scene" / "link.gltf", b.text("link.bin"));
+    const fs::path beside = b.writeGltf(dir / "scene", "beside", true);
+
+    checkBasicScene(loadQuietly(dir / "scene" / "up.gltf"));
+    const SceneLoadOptions restrict{true};
+    auto expectRefused = [&](const fs::path& path, const EnvironmentSpec& env, const std::string& problem) {
+        SCOPED_TRACE(path.string());
+        try {
+            testing::internal::CaptureStderr();
+            loadScene(path, env, restrict);
+            testing::internal::GetCapturedStderr();
+            ADD_FAILURE() << "loaded; expected '" << problem << "'";
+        } catch (const Error& e) {
+            testing::internal::GetCapturedStderr();
+            EXPECT_NE(std::string(e.what()).find(problem), std::string::npos) << e.what();
+        }
+    };
+    expectRefused(dir / "scene" / "up.gltf", {}, "uri '../shared.bin' leaves the scene's folder");
+    expectRefused(dir / "scene" / "link.gltf", {}, "uri 'link.bin' leaves the scene's folder");
+    expectRefused(beside, {(dir / "sky.pfm").string()}, "the environment image leaves the scene's folder");
+    testing::internal::CaptureStderr();
+    const Scene s = loadScene(beside, {}, restrict);
+    testing::internal::GetCapturedStderr();
+    checkBasicScene(s);
+
+    GltfBuilder textured = basicScene();
+    textured.push("images", {{"uri", "../wood.png"}});
+    textured.push("textures", {{"source", 0}});
+    textured.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    textured.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+        textured.vec2s({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    expectRefused(textured.writeGltf(dir / "scene", "image"), {}, "uri '../wood.png' leaves the scene's folder");
+}
+
 // Truncated and corrupted copies of valid files load or fail with a pmcr::Error: never a crash,
 // a hang or another exception type.
 TEST(GltfLoaderErrors, SurvivesTruncationAndCorruption) {
