@@ -2,8 +2,10 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
+#include "core/decimal.h"
 #include "core/error.h"
 
 namespace pmcr::cli {
@@ -35,33 +37,47 @@ std::string Args::value(const std::string& option) {
     return m_tokens[m_pos++];
 }
 
+namespace {
+
+// A bound in an error message as it would be typed: "0.001" and "1e+30", not "0.001000" and
+// 31 digits.
+std::string boundText(double v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", v);
+    return text;
+}
+
+}  // namespace
+
+// Numbers are decimal only (core/decimal.h): "0x10", "inf" or " 5" are errors naming the option,
+// not values strtol or strtod would read some other way.
 uint32_t parseUint(const std::string& option, const std::string& text, uint32_t min, uint32_t max) {
-    char* end = nullptr;
     errno = 0;
-    unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-    if (text.empty() || text[0] == '-' || *end != '\0' || errno == ERANGE || v < min || v > max)
+    const bool decimal = isDecimalInteger(text);
+    const long long v = decimal ? std::strtoll(text.c_str(), nullptr, 10) : 0;  // holds a uint32_t
+    if (!decimal || errno == ERANGE || v < (long long)min || v > (long long)max)
         throw Error(option + ": expected an integer in [" + std::to_string(min) + ", " +
                     std::to_string(max) + "], got '" + text + "'");
     return uint32_t(v);
 }
 
 int parseInt(const std::string& option, const std::string& text, int min, int max) {
-    char* end = nullptr;
     errno = 0;
-    long long v = std::strtoll(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || errno == ERANGE || v < min || v > max)
+    const bool decimal = isDecimalInteger(text);
+    const long long v = decimal ? std::strtoll(text.c_str(), nullptr, 10) : 0;
+    if (!decimal || errno == ERANGE || v < min || v > max)
         throw Error(option + ": expected an integer in [" + std::to_string(min) + ", " +
                     std::to_string(max) + "], got '" + text + "'");
     return int(v);
 }
 
 double parseDouble(const std::string& option, const std::string& text, double min, double max) {
-    char* end = nullptr;
     errno = 0;
-    double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v) || v < min || v > max)
-        throw Error(option + ": expected a number in [" + std::to_string(min) + ", " +
-                    std::to_string(max) + "], got '" + text + "'");
+    const bool decimal = isDecimalNumber(text);
+    const double v = decimal ? std::strtod(text.c_str(), nullptr) : 0.0;
+    if (!decimal || errno == ERANGE || !std::isfinite(v) || v < min || v > max)
+        throw Error(option + ": expected a number in [" + boundText(min) + ", " + boundText(max) +
+                    "], got '" + text + "'");
     return v;
 }
 

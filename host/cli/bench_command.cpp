@@ -50,7 +50,7 @@ void printBenchHelp() {
         "  --width W --height H --seed S --max-depth D --rr-depth D --camera N\n"
         "                       as for render (default seed 1; size: the reference's)\n"
         "%s"
-        "  --device ID  --validate  -q, --quiet\n",
+        "  --device ID  --validate  -q, --quiet  --verbose\n",
         kDefaultDisplayWhite, kEnvironmentHelp);
 }
 
@@ -59,6 +59,7 @@ int runBench(Args& args) {
     RenderSettings& s = o.base;
     std::optional<fs::path> scenePath, out;
     EnvironmentSpec environment;
+    bool verbose = false;
     while (!args.done()) {
         const std::string a = args.next();
         if (parseEnvironmentOption(a, args, environment))
@@ -101,6 +102,8 @@ int runBench(Args& args) {
             s.validate = true;
         else if (a == "--quiet" || a == "-q")
             s.quiet = true;
+        else if (a == "--verbose")
+            verbose = true;
         else if (a.rfind("-", 0) == 0 && a.size() > 1)
             throw Error(a + ": unknown option for bench");
         else if (!scenePath)
@@ -122,6 +125,10 @@ int runBench(Args& args) {
         throw Error("bench: give --reference REF.exr, or --reference-spp N to render one");
     checkBenchOutputDir(*out);
     log::setQuiet(s.quiet);
+    // As for render: the warnings of loading wait until a method renders (renderScene), so
+    // that bad input is one line (core/log.h).
+    if (!verbose)
+        log::hold();
     checkEnvironmentOptions(environment);
     Scene scene = loadScene(*scenePath, environment);
     BenchReport report = prepareBench(scene, o);

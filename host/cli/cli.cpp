@@ -11,6 +11,7 @@
 #include "cli/render_command.h"
 #include "core/communicator.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "vk/context.h"
 
 namespace pmcr::cli {
@@ -88,10 +89,14 @@ int run(int argc, char** argv) {
                 }
             }
             Args args(argc, argv, 2);
-            return sub.run(args);
+            const int status = sub.run(args);
+            log::release();  // whatever a command still holds (core/log.h)
+            return status;
         }
         throw Error(command + ": unknown command (see pmcr --help)");
     } catch (const std::exception& e) {
+        // The error is the one line: messages held while the input was checked are dropped.
+        log::discard();
         // Under mpirun every rank fails alike on bad input: rank 0 alone says so (a rank's own
         // failure is named by rank, render/distributed.h).
         if (worldCommunicator().rank() == 0) std::fprintf(stderr, "pmcr: error: %s\n", e.what());

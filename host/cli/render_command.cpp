@@ -39,6 +39,8 @@ RenderCommand parseRenderCommand(Args& args) {
         else if (a == "--validate") s.validate = true;
         else if (a == "--stats") c.stats = true;
         else if (a == "--quiet" || a == "-q") s.quiet = true;
+        else if (a == "--verbose") c.verbose = true;
+        else if (a == "--restrict-paths") c.restrictPaths = true;
         else if (parseEnvironmentOption(a, args, c.environment)) continue;
         else if (a.rfind("--", 0) == 0 && a.size() > 2) {
             // A method's option. Check the name before taking a value, so that an unknown flag
@@ -75,6 +77,10 @@ int runRender(const RenderCommand& command) {
     RenderSettings requested = command.settings;
     requested.quiet = requested.quiet || comm.rank() > 0;
     log::setQuiet(requested.quiet);
+    // Bad input is one line on stderr: the warnings of loading and the device line wait until
+    // the render goes ahead (renderScene releases them; an error discards them, cli.cpp), unless
+    // --verbose asks for them as they come.
+    if (!command.verbose) log::hold();
     RenderSettings settings;
     OutputPaths paths;
     Scene scene;
@@ -83,7 +89,7 @@ int runRender(const RenderCommand& command) {
     onEveryRank(comm, [&] {
         paths = resolveOutputPaths(command.scene, command.output, command.png, command.noPng,
                                    command.exposure);
-        scene = loadScene(command.scene, command.environment);
+        scene = loadScene(command.scene, command.environment, {command.restrictPaths});
         resolveImageSize(scene, requested);
         settings = rankSettings(requested, findMethod(requested.method)->create(requested)->defaultSpp(), comm);
     });
@@ -189,6 +195,10 @@ void printRenderHelp() {
         "  --validate           enable the Khronos validation layer\n"
         "  --stats              print timings, rays/s and per-kernel GPU time\n"
         "  -q, --quiet          no progress bar or messages\n"
+        "  --verbose            print warnings as they come (by default they wait until the\n"
+        "                       render starts, and an error is the only line printed)\n"
+        "  --restrict-paths     refuse buffers, images and environment images outside the\n"
+        "                       scene's folder (for scenes from others; docs/scenes.md)\n"
         "\n"
         "Ctrl-C stops the render and still writes the image so far (exit status 130).\n"
         "\n"

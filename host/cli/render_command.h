@@ -18,6 +18,8 @@ struct RenderCommand {
     bool noPng = false;
     float exposure = 0.0f;
     bool stats = false;
+    bool verbose = false;        // print warnings as they come, not once the render goes ahead
+    bool restrictPaths = false;  // the scene's files must lie in its folder (scene/gltf_loader.h)
 };
 
 RenderCommand parseRenderCommand(Args& args);

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/decimal.h"
 #include "core/error.h"
 
 namespace pmcr {
@@ -56,17 +57,19 @@ PixelRect checkInputs(const Image& image, const Image& reference, const MetricOp
 PixelRect parsePixelRect(const std::string& option, const std::string& text) {
     PixelRect r;
     int* fields[4] = {&r.x, &r.y, &r.width, &r.height};
-    const char* p = text.c_str();
+    size_t at = 0;
     for (int i = 0; i < 4; ++i) {
-        char* end = nullptr;
+        // Each field decimal digits only (core/decimal.h), as every number on the command line.
+        const size_t comma = i < 3 ? text.find(',', at) : text.size();
+        const std::string field = comma == std::string::npos ? "" : text.substr(at, comma - at);
         errno = 0;
-        const long v = std::strtol(p, &end, 10);
-        const char expected = i < 3 ? ',' : '\0';
-        if (end == p || *end != expected || errno == ERANGE || v < 0 || v > (1 << 20))
+        const bool decimal = isDecimalInteger(field);
+        const long long v = decimal ? std::strtoll(field.c_str(), nullptr, 10) : -1;
+        if (!decimal || errno == ERANGE || v < 0 || v > (1 << 20))
             throw Error(option + ": expected x,y,width,height (four non-negative integers), got '" +
                         text + "'");
         *fields[i] = int(v);
-        p = end + (i < 3 ? 1 : 0);
+        at = comma + 1;
     }
     if (r.width == 0 || r.height == 0)
         throw Error(option + ": empty rectangle '" + text + "'");

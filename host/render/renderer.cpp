@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "core/process_clock.h"
 #include "image/image.h"
 #include "render/methods.h"
@@ -14,9 +15,14 @@
 namespace pmcr {
 
 void resolveImageSize(const Scene& scene, RenderSettings& s) {
+    // Checked here, before any device is opened: a bad --camera is the only line printed.
+    if (s.camera < 0 || s.camera >= int(scene.cameras.size()))
+        fail(scene.path.string(), "--camera " + std::to_string(s.camera) +
+                                      " out of range (the scene has " +
+                                      std::to_string(scene.cameras.size()) + " camera(s))");
     const int maxSize = 16384;
     float aspect = 4.0f / 3.0f;
-    if (s.camera >= 0 && s.camera < int(scene.cameras.size()) && scene.cameras[size_t(s.camera)].aspect > 0.0f)
+    if (scene.cameras[size_t(s.camera)].aspect > 0.0f)
         aspect = scene.cameras[size_t(s.camera)].aspect;
     if (s.paperSize) {
         if (s.width != 0 || s.height != 0) throw Error("--paper-size and --width/--height contradict each other");
@@ -45,6 +51,9 @@ RenderResult renderScene(vk::Context& context, const Scene& scene, const RenderS
     const MethodInfo* method = findMethod(settings.method);
     auto integrator = method->create(settings);
     RenderSession session(context, scene, settings, settings.width, settings.height, comm);
+    // The scene is on the device and the render goes ahead: print the messages `pmcr render`
+    // held while it checked the input (core/log.h), before the progress bar.
+    log::release();
     auto start = std::chrono::steady_clock::now();
     RenderResult result;
     result.output = integrator->render(session);

@@ -28,7 +28,7 @@ struct RenderResult {
 
 // Fills in width/height: explicit values win; else the scene's default size; else 640 wide at
 // the camera's aspect ratio (4:3 when the file gives none). Only one given: the other follows
-// the aspect ratio.
+// the aspect ratio. Throws pmcr::Error when settings.camera is not one of the scene's cameras.
 void resolveImageSize(const Scene& scene, RenderSettings& settings);
 
 // Renders `scene` with settings.method on `context` (settings must have a resolved size): this

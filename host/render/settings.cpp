@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "core/decimal.h"
 #include "core/error.h"
 
 namespace pmcr {
@@ -12,10 +13,11 @@ namespace pmcr {
 int RenderSettings::optionInt(const std::string& name, int defaultValue) const {
     auto it = options.find(name);
     if (it == options.end()) return defaultValue;
-    char* end = nullptr;
+    // Decimal only, as every number on the command line (core/decimal.h).
     errno = 0;
-    long v = std::strtol(it->second.c_str(), &end, 10);
-    if (it->second.empty() || *end != '\0' || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
+    const bool decimal = isDecimalInteger(it->second);
+    const long long v = decimal ? std::strtoll(it->second.c_str(), nullptr, 10) : 0;
+    if (!decimal || errno == ERANGE || v < INT32_MIN || v > INT32_MAX)
         throw Error("--" + name + ": expected an integer, got '" + it->second + "'");
     return int(v);
 }
@@ -23,10 +25,10 @@ int RenderSettings::optionInt(const std::string& name, int defaultValue) const {
 double RenderSettings::optionDouble(const std::string& name, double defaultValue) const {
     auto it = options.find(name);
     if (it == options.end()) return defaultValue;
-    char* end = nullptr;
     errno = 0;
-    double v = std::strtod(it->second.c_str(), &end);
-    if (it->second.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+    const bool decimal = isDecimalNumber(it->second);
+    const double v = decimal ? std::strtod(it->second.c_str(), nullptr) : 0.0;
+    if (!decimal || errno == ERANGE || !std::isfinite(v))
         throw Error("--" + name + ": expected a number, got '" + it->second + "'");
     return v;
 }
@@ -59,10 +61,9 @@ std::vector<double> parseNumberList(const std::string& option, const std::string
     std::string field;
     bool ok = !list.empty() && list.back() != ',';
     while (ok && std::getline(in, field, ',')) {
-        char* end = nullptr;
         errno = 0;
-        const double v = std::strtod(field.c_str(), &end);
-        ok = !field.empty() && *end == '\0' && errno != ERANGE && std::isfinite(v);
+        const double v = isDecimalNumber(field) ? std::strtod(field.c_str(), nullptr) : 0.0;
+        ok = isDecimalNumber(field) && errno != ERANGE && std::isfinite(v);
         numbers.push_back(v);
     }
     if (!ok) throw Error("--" + option + ": expected numbers separated by , or /, got '" + text + "'");

@@ -1,7 +1,9 @@
 #include "scene/environment.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -9,26 +11,38 @@
 
 #include <stb_image.h>  // Radiance .hdr (the implementation is compiled in gltf_loader.cpp)
 
+#include "core/decimal.h"
 #include "core/error.h"
+#include "core/paths.h"
 
 namespace pmcr {
 
 namespace {
 
-// "R,G,B" as three finite numbers, or false when `text` is not of that form.
+// "R,G,B" as three decimal numbers (core/decimal.h: "0x10,1,1" is not 16,1,1), or false when
+// `text` is not of that form.
 bool parseTriple(const std::string& text, glm::vec3& out) {
-    const char* p = text.c_str();
+    size_t at = 0;
     for (int i = 0; i < 3; ++i) {
-        char* end = nullptr;
-        out[i] = std::strtof(p, &end);
-        if (end == p) return false;
-        p = end;
-        if (i < 2) {
-            if (*p != ',') return false;
-            ++p;
-        }
+        const size_t comma = i < 2 ? text.find(',', at) : text.size();
+        if (comma == std::string::npos) return false;
+        const std::string field = text.substr(at, comma - at);
+        if (!isDecimalNumber(field)) return false;
+        out[i] = float(std::strtod(field.c_str(), nullptr));
+        at = comma + 1;
     }
-    return *p == '\0';
+    return true;
+}
+
+bool allFinite(const glm::vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// --env-scale as the user wrote it, near enough ("1e+30", not 31 digits).
+std::string scaleText(float scale) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", double(scale));
+    return text;
 }
 
 Image readRadianceHdr(const std::filesystem::path& path) {
@@ -46,7 +60,7 @@ Image readRadianceHdr(const std::filesystem::path& path) {
 
 }  // namespace
 
-Environment loadEnvironment(const EnvironmentSpec& spec) {
+Environment loadEnvironment(const EnvironmentSpec& spec, const std::filesystem::path& folder) {
     Environment env;
     if (spec.value.empty()) return env;
     env.source = spec.value;
@@ -55,23 +69,36 @@ Environment loadEnvironment(const EnvironmentSpec& spec) {
     env.rotation = glm::radians(spec.rotateDegrees);
     glm::vec3 constant;
     if (parseTriple(spec.value, constant)) {
-        if (!std::isfinite(constant.x + constant.y + constant.z) || glm::any(glm::lessThan(constant, glm::vec3(0.0f))))
+        if (!allFinite(constant) || glm::any(glm::lessThan(constant, glm::vec3(0.0f))))
             fail(spec.value, "environment radiance must be finite and >= 0");
         env.kind = gpu::ENV_CONSTANT;
         env.radiance = constant * spec.scale;
+        if (!allFinite(env.radiance))
+            fail(spec.value, "environment radiance overflows 32-bit floats when scaled by "
+                             "--env-scale " + scaleText(spec.scale));
         return env;
     }
     const std::filesystem::path path(spec.value);
     std::string ext = path.extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".exr" && ext != ".pfm" && ext != ".hdr")
-        fail(spec.value, "--env expects R,G,B or an .exr, .pfm or .hdr image");
+        fail(spec.value,
+             "--env expects R,G,B (three decimal numbers) or an .exr, .pfm or .hdr image");
+    if (!folder.empty() && !isInsideFolder(path, folder))
+        fail(spec.value, "the environment image leaves the scene's folder (--restrict-paths)");
     env.image = ext == ".hdr" ? readRadianceHdr(path) : readHdr(path);
     if (env.image.width < 1 || env.image.height < 1) fail(spec.value, "empty image");
     if (uint64_t(env.image.width) * uint64_t(env.image.height) > (1u << 26))
         fail(spec.value, "environment image too large (more than 2^26 pixels)");
-    for (float v : env.image.rgb)
+    float brightest = 0.0f;
+    for (float v : env.image.rgb) {
         if (!std::isfinite(v) || v < 0.0f) fail(spec.value, "environment image has negative, NaN or infinite pixels");
+        brightest = std::max(brightest, v);
+    }
+    // The kernels scale each pixel by --env-scale in 32-bit floats.
+    if (!std::isfinite(brightest * spec.scale))
+        fail(spec.value, "environment radiance overflows 32-bit floats when scaled by "
+                         "--env-scale " + scaleText(spec.scale));
     env.kind = gpu::ENV_IMAGE;
     return env;
 }

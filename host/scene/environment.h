@@ -7,6 +7,7 @@
 // pixel (no filtering), so the pixel distribution below is exactly the density the kernels draw.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -23,8 +24,10 @@ struct EnvironmentSpec {
 };
 
 // Loads what `spec` names; throws pmcr::Error "<file or value>: <problem>" for a missing or
-// unreadable file, a malformed value, or negative, NaN or infinite radiance.
-Environment loadEnvironment(const EnvironmentSpec& spec);
+// unreadable file, a malformed value (R,G,B are decimal numbers), negative, NaN or infinite
+// radiance, or radiance that overflows 32-bit floats once scaled by --env-scale. When `folder`
+// is not empty (--restrict-paths), an image outside it is refused.
+Environment loadEnvironment(const EnvironmentSpec& spec, const std::filesystem::path& folder = {});
 
 // The importance-sampling table of an ENV_IMAGE environment: one alias-table entry per pixel
 // (`triangle` = the pixel index), with weight luminance * sin(theta at the pixel's centre row)

@@ -29,6 +29,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/paths.h"
 #include "scene/tangents.h"
 
 namespace pmcr {
@@ -103,11 +104,29 @@ size_t jsonNestingDepth(const char* text, size_t size) {
     return deepest;
 }
 
+// What tinygltf's filesystem callbacks see: the folder it joins relative uris to and, under
+// --restrict-paths, the first uri refused for leaving the scene's folder.
+struct ResourceAccess {
+    std::string baseDir;
+    bool restrictPaths = false;
+    std::string refused;
+};
+
 // Filesystem callbacks for tinygltf: resources are regular files beside the scene file only
-// (tinygltf would also look in the working directory and expand paths with wordexp).
-bool resourceExists(const std::string& path, void* baseDir) {
-    if (path.rfind(*static_cast<const std::string*>(baseDir), 0) != 0)
+// (tinygltf would also look in the working directory and expand paths with wordexp); with
+// --restrict-paths, only inside the scene's folder. A refused uri is remembered, so that the
+// error names it instead of tinygltf's "file not found".
+bool resourceExists(const std::string& path, void* user) {
+    ResourceAccess& access = *static_cast<ResourceAccess*>(user);
+    if (path.rfind(access.baseDir, 0) != 0)
         return false;
+    if (access.restrictPaths && !isInsideFolder(path, access.baseDir)) {
+        if (access.refused.empty()) {
+            std::string uri = path.substr(access.baseDir.size());
+            access.refused = uri.empty() || uri[0] != '/' ? uri : uri.substr(1);
+        }
+        return false;
+    }
     std::error_code ec;
     return fs::is_regular_file(path, ec);
 }
@@ -248,8 +267,9 @@ bool isUnsignedIndexType(int componentType) {
 
 class GltfLoader {
 public:
-    GltfLoader(const fs::path& path, EnvironmentSpec environment)
-        : m_path(path), m_file(path.string()), m_environment(std::move(environment)) {}
+    GltfLoader(const fs::path& path, EnvironmentSpec environment, const SceneLoadOptions& options)
+        : m_path(path), m_file(path.string()), m_environment(std::move(environment)),
+          m_options(options) {}
     Scene load();
 
 private:
@@ -289,6 +309,7 @@ private:
     tinygltf::Model m_model;
     Scene m_scene;
     EnvironmentSpec m_environment;  // --env; else extras.pmcr.environment
+    SceneLoadOptions m_options;
     std::set<std::string> m_warned;
     std::map<std::string, std::vector<std::string>> m_ignored;  // kind -> material labels
     std::vector<int> m_textureSlot;  // glTF texture -> Scene::textures index, -1 if unused
@@ -330,7 +351,11 @@ Scene GltfLoader::load() {
     checkExtensions();
     m_scene.path = m_path;
     readExtras();
-    m_scene.environment = loadEnvironment(m_environment);
+    // Under --restrict-paths the environment image, from --env or the file's extras, must lie
+    // in the scene's folder too.
+    const fs::path folder = m_path.parent_path().empty() ? fs::path(".") : m_path.parent_path();
+    m_scene.environment =
+        loadEnvironment(m_environment, m_options.restrictPaths ? folder : fs::path());
     convertMaterials();
     traverseScene();
     for (const auto& [kind, materials] : m_ignored) {
@@ -385,11 +410,14 @@ void GltfLoader::parse() {
     }
 
     tinygltf::TinyGLTF gltf;
-    std::string baseDir = m_path.parent_path().string();
-    if (baseDir.empty())
-        baseDir = ".";
+    ResourceAccess access;
+    access.baseDir = m_path.parent_path().string();
+    if (access.baseDir.empty())
+        access.baseDir = ".";
+    access.restrictPaths = m_options.restrictPaths;
+    const std::string& baseDir = access.baseDir;
     gltf.SetFsCallbacks(
-        {&resourceExists, &expandResourcePath, &readResource, &writeResource, &baseDir});
+        {&resourceExists, &expandResourcePath, &readResource, &writeResource, &access});
     gltf.SetImageLoader(&keepEncodedImage, nullptr);
 
     std::string err, warn;
@@ -411,6 +439,8 @@ void GltfLoader::parse() {
         if (!ok && err.empty())
             err = "tinygltf rejected the file";
     }
+    if (!access.refused.empty())
+        error("uri " + inQuotes(access.refused) + " leaves the scene's folder (--restrict-paths)");
     if (!warn.empty())
         log::warning(m_file + ": " + oneLine(warn));
     if (!err.empty()) {
@@ -443,8 +473,6 @@ void GltfLoader::parseGlb(tinygltf::TinyGLTF& gltf, const std::vector<unsigned c
         error("truncated GLB: the header says " + std::to_string(length) + " bytes, the file has " +
               std::to_string(size));
     }
-    if (length < size)
-        warnOnce("ignoring " + std::to_string(size - length) + " bytes after the GLB");
     if (length < 20)
         error("truncated GLB: no JSON chunk");
     const uint64_t jsonLength = u32(12);
@@ -479,6 +507,10 @@ void GltfLoader::parseGlb(tinygltf::TinyGLTF& gltf, const std::vector<unsigned c
         kMaxJsonDepth) {
         error("JSON nested more than " + std::to_string(kMaxJsonDepth) + " levels deep");
     }
+    // Only a container that holds together has bytes "after" it: a header length of 0 or one
+    // short of its chunks is an error above, not this warning.
+    if (length < size)
+        warnOnce("ignoring " + std::to_string(size - length) + " bytes after the GLB");
     bool ok = false;
     try {
         ok = gltf.LoadBinaryFromMemory(&m_model, &err, &warn, bytes.data(), unsigned(length),
@@ -845,6 +877,10 @@ Texture GltfLoader::decodeImage(int index) {
     } else if (!image.image.empty()) {
         bytes = image.image.data();
         size = image.image.size();
+    } else if (!image.uri.empty() && image.uri.rfind("data:", 0) != 0) {
+        // tinygltf only warned (held until the render goes ahead): say here why.
+        error(label + " could not be read: uri " + inQuotes(image.uri) +
+              " names no readable regular file");
     } else {
         error(label + " could not be read");
     }
@@ -1239,7 +1275,11 @@ void GltfLoader::addLight(int nodeIndex, const tinygltf::Value& extension, const
     } else {
         error(label + " has unknown type " + inQuotes(src.type));
     }
-    if (luminance(light.intensity) > 0.0f) m_scene.punctualLights.push_back(light);
+    if (luminance(light.intensity) > 0.0f) {
+        m_scene.punctualLights.push_back(light);
+        m_scene.punctualLightNames.push_back(
+            src.name.empty() ? label : label + " (" + inQuotes(src.name) + ")");
+    }
 }
 
 void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat4& world) {
@@ -1473,9 +1513,10 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
 
 }  // namespace
 
-Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment) {
+Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment,
+                const SceneLoadOptions& options) {
     try {
-        return GltfLoader(path, environment).load();
+        return GltfLoader(path, environment, options).load();
     } catch (const Error&) {
         throw;
     } catch (const std::bad_alloc&) {

@@ -16,6 +16,16 @@ namespace pmcr {
 // pmcr only partly supports gives one warning per kind.
 // `environment` (--env), else the image the file's extras.pmcr.environment names (relative to
 // the file), lights the scene too; a scene needs some light.
-Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment = {});
+//
+// External files (buffer and image uris, the environment image) are read relative to the
+// scene's folder; a uri is never read as an absolute path. Relative paths may leave the folder
+// ("../textures/wood.png", as real projects share files) unless options.restrictPaths is set.
+struct SceneLoadOptions {
+    // --restrict-paths: refuse any buffer, image or environment path that leaves the scene's
+    // folder, symbolic links followed (for render farms that take scenes from others).
+    bool restrictPaths = false;
+};
+Scene loadScene(const std::filesystem::path& path, const EnvironmentSpec& environment = {},
+                const SceneLoadOptions& options = {});
 
 }  // namespace pmcr

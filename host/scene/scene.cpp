@@ -1,6 +1,9 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
 #include <map>
 #include <tuple>
@@ -11,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "scene/environment.h"
 #include "scene/texture_lookup.h"
 
 namespace pmcr {
@@ -219,6 +223,78 @@ std::vector<gpu::LightGroup> LightGroupTable::deviceGroups() const {
     return groups;
 }
 
+namespace {
+
+std::string materialLabel(const Scene& scene, size_t m) {
+    const std::string index = "material " + std::to_string(m);
+    if (m >= scene.materialNames.size() || scene.materialNames[m].empty() ||
+        scene.materialNames[m] == index)
+        return index;
+    return index + " ('" + scene.materialNames[m] + "')";
+}
+
+std::string punctualLabel(const Scene& scene, size_t i) {
+    if (i < scene.punctualLightNames.size() && !scene.punctualLightNames[i].empty())
+        return scene.punctualLightNames[i];
+    return "punctual light " + std::to_string(i);
+}
+
+std::string powerText(double power) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.3g", power);
+    return text;
+}
+
+// The lights as the device will sum and sample them, in 32-bit floats (buildEmitters,
+// chooseLights, the kernels): a light whose power overflows renders black or as NaN samples
+// that are dropped (a point light of intensity 3e38: 4 pi I is infinite), so it is refused by
+// name; and a scene whose lights together have no power (--env 0,0,0 or --env-scale 0 as its only
+// light, an emitter whose texture is black) can only render black, so it is refused like a scene
+// without light. A directional light's and the environment's power grow with the scene's radius
+// R (pi R^2 times their irradiance): they are checked at max(R, 1), so that whether a light
+// overflows does not depend on the scene's units.
+void checkLightPower(const Scene& scene) {
+    const std::string file = scene.path.string();
+    const double largest = double(std::numeric_limits<float>::max());
+    const float radius = std::max(0.5f * glm::length(scene.boundsMax - scene.boundsMin), 1.0f);
+    double total = 0.0;
+    for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
+        const float power = emitterPower(scene, t);
+        if (!std::isfinite(power)) {
+            fail(file, materialLabel(scene, scene.triangles[t].material) +
+                           ": the power of its triangle " + std::to_string(t) +
+                           " overflows 32-bit floats");
+        }
+        total += double(power);
+    }
+    if (total > largest) fail(file, "the emitters' total power overflows 32-bit floats");
+    for (size_t i = 0; i < scene.punctualLights.size(); ++i) {
+        const gpu::PunctualLight& light = scene.punctualLights[i];
+        const double power = punctualLightPower(light, radius);
+        if (!std::isfinite(luminance(light.intensity)) || !(power <= largest)) {
+            fail(file, punctualLabel(scene, i) + ": its power overflows 32-bit floats (intensity " +
+                           powerText(double(luminance(light.intensity))) + ")");
+        }
+        total += power;
+    }
+    if (scene.environment.kind != gpu::ENV_NONE) {
+        const double power = environmentPower(scene.environment, radius);
+        if (!(power <= largest)) {
+            fail(file, "environment '" + scene.environment.source +
+                           "': its power overflows 32-bit floats (" + powerText(power) +
+                           " at radius " + powerText(radius) + ")");
+        }
+        total += power;
+    }
+    if (!(total <= largest)) fail(file, "the lights' total power overflows 32-bit floats");
+    if (total == 0.0) {
+        fail(file, "no light: its emitters, punctual lights and environment together have zero "
+                   "power (a black --env, --env-scale 0 or black emission)");
+    }
+}
+
+}  // namespace
+
 void finalizeScene(Scene& scene) {
     const std::string file = scene.path.string();
     for (size_t i = 0; i < scene.vertices.size(); ++i) {
@@ -229,7 +305,7 @@ void finalizeScene(Scene& scene) {
     for (size_t m = 0; m < scene.materials.size(); ++m) {
         const glm::vec3& e = scene.materials[m].emission;
         if (!isFinite(e) || e.r < 0.0f || e.g < 0.0f || e.b < 0.0f) {
-            fail(file, "material " + std::to_string(m) + " has a negative or non-finite emission");
+            fail(file, materialLabel(scene, m) + " has a negative or non-finite emission");
         }
     }
     const size_t vertexCount = scene.vertices.size();
@@ -312,6 +388,7 @@ void finalizeScene(Scene& scene) {
             scene.boundsMax = glm::max(scene.boundsMax, scene.vertices[i].position);
         }
     }
+    checkLightPower(scene);
 }
 
 }  // namespace pmcr

@@ -61,6 +61,7 @@ struct Scene {
     glm::vec3 boundsMax{0.0f};
     Environment environment;               // set before finalizeScene (loadScene's EnvironmentSpec)
     std::vector<gpu::PunctualLight> punctualLights;  // KHR_lights_punctual, world space
+    std::vector<std::string> punctualLightNames;     // for messages ("light 2 ('sun')"); may be empty
     // Per vertex, for normal maps: the tangent (world space) and the bitangent's sign in w
     // (glTF TANGENT, or generated: host/scene/tangents.h). Empty when no material has a
     // normalTexture.
@@ -113,8 +114,11 @@ float emitterPower(const Scene& scene, uint32_t triangle);
 float emitterLuminance(const Scene& scene, uint32_t triangle);
 
 // Recomputes bounds; throws pmcr::Error naming scene.path for NaN/Inf positions, no triangles
-// or no light (no emitters, punctual lights or environment); drops zero-area triangles with one
-// warning; computes triangleEmission for emissive textures.
+// or no light (no emitters, punctual lights or environment, or all of them together of zero
+// power, e.g. --env 0,0,0 or --env-scale 0 as the only light), and naming the light whose power
+// overflows 32-bit floats (the device's; at the scene's radius and at least at radius 1), or
+// when their total does; drops zero-area triangles with one warning; computes
+// triangleEmission for emissive textures.
 void finalizeScene(Scene& scene);
 
 float luminance(const glm::vec3& rgb);  // Rec. 709 / sRGB primaries

@@ -267,6 +267,18 @@ TEST(FinalizeScene, RejectsBadScenes) {
     Scene dangling = sceneWithEmitters({1.0f}, {{1, 1, 1}}, {false});
     dangling.triangles[1].i2 = 99;
     expectFinalizeError(dangling, "out of range");
+
+    // Issue 42: an emitter whose power (area * L * pi) overflows 32-bit floats is named, and the
+    // total of finite ones may not overflow either; a scene lit by a black environment alone has
+    // no light.
+    expectFinalizeError(sceneWithEmitters({10.0f}, {glm::vec3(3e37f)}, {false}),
+                        "material 1: the power of its triangle 1 overflows 32-bit floats");
+    expectFinalizeError(sceneWithEmitters({10.0f, 10.0f}, {glm::vec3(1.5e36f), glm::vec3(1.5e36f)},
+                                          {false, false}),  // 2.4e38 each
+                        "the emitters' total power overflows");
+    Scene blackSky = sceneWithEmitters({1.0f}, {{0, 0, 0}}, {false});
+    blackSky.environment.kind = gpu::ENV_CONSTANT;
+    expectFinalizeError(blackSky, "no light");
 }
 
 }  // namespace

@@ -561,6 +561,17 @@ TEST(GltfLoader, PunctualLights) {
     expectLoadError(build(json::array({{{"type", "point"}, {"intensity", -1.0}}}), {lightNode(0, json::object())})
                         .writeGltf(dir, "negative"),
                     ">= 0");
+    // Issue 42: a light whose power overflows the device's 32-bit floats is named, whether its
+    // intensity does (1e39) or only 4 pi I does (3e38); a directional light's at radius 1 or more.
+    for (const char* type : {"point", "directional"}) {
+        for (double intensity : {1e39, 3e38}) {
+            const std::string name = std::string(type) + std::to_string(int(std::log10(intensity)));
+            expectLoadError(build(json::array({{{"type", type}, {"intensity", intensity}, {"name", "lamp"}}}),
+                                  {lightNode(0, json::object())})
+                                .writeGltf(dir, name),
+                            "light 0 ('lamp'): its power overflows 32-bit floats");
+        }
+    }
 }
 
 TEST(GltfLoader, RejectsInvalidMaterialValues) {
@@ -1139,6 +1150,25 @@ TEST(GltfLoaderErrors, AllTrianglesDegenerate) {
     expectLoadError(b.writeGltf(test::tempDir("flat"), "flat"), "degenerate");
 }
 
+// Issue 42: lights that together have no power render black; the scene is refused like one
+// without light.
+TEST(GltfLoaderErrors, LightsOfZeroPower) {
+    GltfBuilder b;
+    b.node({{"mesh", b.triangles({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, -1)}});
+    const fs::path path = b.writeGltf(test::tempDir("black-sky"), "black");
+    for (const EnvironmentSpec& env : {EnvironmentSpec{"0,0,0"}, EnvironmentSpec{"1,1,1", 0.0f, 0.0f}}) {
+        try {
+            testing::internal::CaptureStderr();
+            loadScene(path, env);
+            testing::internal::GetCapturedStderr();
+            ADD_FAILURE() << env.value << " loaded";
+        } catch (const Error& e) {
+            testing::internal::GetCapturedStderr();
+            EXPECT_NE(std::string(e.what()).find("black.gltf: no light"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(GltfLoaderErrors, ZeroAreaTrianglesAreDroppedWithOneWarning) {
     GltfBuilder b = basicScene();
     b.node({{"mesh",
@@ -1147,6 +1177,70 @@ TEST(GltfLoaderErrors, ZeroAreaTrianglesAreDroppedWithOneWarning) {
     const Scene s = loadQuietly(b.writeGltf(test::tempDir("zero-area"), "za"), &warnings);
     EXPECT_EQ(s.triangles.size(), 3u);
     EXPECT_EQ(countOf(warnings, "dropped 2 of 5 triangles with zero area"), 1u) << warnings;
+}
+
+// A GLB whose header's total length is short of its chunks is an error, with no warning about
+// bytes "after" it printed first (issue 42).
+TEST(GltfLoaderErrors, ShortGlbLengthIsAnErrorWithoutAWarning) {
+    GltfBuilder b = basicScene();
+    std::vector<uint8_t> glb = b.glb();
+    glb[8] = 16;  // total length 16, little-endian
+    glb[9] = glb[10] = glb[11] = 0;
+    const fs::path path = test::tempDir("short-length") / "short.glb";
+    writeBytes(path, glb);
+    testing::internal::CaptureStderr();
+    try {
+        loadScene(path);
+        ADD_FAILURE() << "loaded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("truncated GLB"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+// External files are read relative to the scene's folder, out of it too by default (shared
+// textures); --restrict-paths (SceneLoadOptions::restrictPaths) refuses a buffer, image or
+// environment outside the folder, through ".." or a symbolic link, and reads those inside.
+TEST(GltfLoaderErrors, RestrictPathsKeepsFilesInTheScenesFolder) {
+    const fs::path dir = test::tempDir("restrict");
+    fs::create_directories(dir / "scene");
+    GltfBuilder b = basicScene();
+    writeBytes(dir / "shared.bin", b.bin);
+    writeText(dir / "scene" / "up.gltf", b.text("../shared.bin"));
+    fs::remove(dir / "scene" / "link.bin");
+    fs::create_symlink("../shared.bin", dir / "scene" / "link.bin");
+    writeText(dir / "scene" / "link.gltf", b.text("link.bin"));
+    const fs::path beside = b.writeGltf(dir / "scene", "beside", true);
+
+    checkBasicScene(loadQuietly(dir / "scene" / "up.gltf"));
+    const SceneLoadOptions restrict{true};
+    auto expectRefused = [&](const fs::path& path, const EnvironmentSpec& env, const std::string& problem) {
+        SCOPED_TRACE(path.string());
+        try {
+            testing::internal::CaptureStderr();
+            loadScene(path, env, restrict);
+            testing::internal::GetCapturedStderr();
+            ADD_FAILURE() << "loaded; expected '" << problem << "'";
+        } catch (const Error& e) {
+            testing::internal::GetCapturedStderr();
+            EXPECT_NE(std::string(e.what()).find(problem), std::string::npos) << e.what();
+        }
+    };
+    expectRefused(dir / "scene" / "up.gltf", {}, "uri '../shared.bin' leaves the scene's folder");
+    expectRefused(dir / "scene" / "link.gltf", {}, "uri 'link.bin' leaves the scene's folder");
+    expectRefused(beside, {(dir / "sky.pfm").string()}, "the environment image leaves the scene's folder");
+    testing::internal::CaptureStderr();
+    const Scene s = loadScene(beside, {}, restrict);
+    testing::internal::GetCapturedStderr();
+    checkBasicScene(s);
+
+    GltfBuilder textured = basicScene();
+    textured.push("images", {{"uri", "../wood.png"}});
+    textured.push("textures", {{"source", 0}});
+    textured.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    textured.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+        textured.vec2s({{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    expectRefused(textured.writeGltf(dir / "scene", "image"), {}, "uri '../wood.png' leaves the scene's folder");
 }
 
 // Truncated and corrupted copies of valid files load or fail with a pmcr::Error: never a crash,
