@@ -107,6 +107,7 @@ ImagePlaneSampler::ImagePlaneSampler(int width, int height, const ImagePlaneOpti
     m_alpha.assign(n, 1.0 / double(n));
     m_sum.assign(n, glm::dvec3(0.0));
     m_count.assign(n, 0);
+    m_scheduled.assign(n, 0);
     m_lumSum.assign(n, 0.0);
     m_lumSqSum.assign(n, 0.0);
     m_pilotLumSum.assign(n, 0.0);
@@ -138,9 +139,10 @@ std::vector<double> ImagePlaneSampler::pilotPerceptualVariance() const {
 
 const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u, double spp) {
     const size_t n = m_count.size();
-    m_sequenceStart = m_count;
-    if (m_iteration == 0) {
+    m_sequenceStart = m_scheduled;
+    if (m_allocations++ == 0) {
         m_allocated.assign(n, m_options.initialSpp);
+        for (size_t i = 0; i < n; ++i) m_scheduled[i] += m_allocated[i];
         return m_allocated;
     }
     m_alpha = neighbourMixtureWeights(pilotPerceptualVariance(), m_width, m_height, m_options.epsilon,
@@ -151,16 +153,17 @@ const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u, double spp) {
     std::vector<double> expected(n);
     for (size_t i = 0; i < n; ++i) expected[i] = double(m_iterationPilots) + adaptive * m_alpha[i];
     m_allocated = dmsRound(expected, u);
+    for (size_t i = 0; i < n; ++i) m_scheduled[i] += m_allocated[i];
     return m_allocated;
 }
 
-void ImagePlaneSampler::addSample(uint32_t pixel, uint32_t index, const glm::vec3& radiance) {
+void ImagePlaneSampler::addResult(uint32_t pixel, bool pilot, const glm::vec3& radiance) {
     const double y = luminance(radiance);
     m_sum[pixel] += glm::dvec3(radiance);
     m_count[pixel] += 1;
     m_lumSum[pixel] += y;
     m_lumSqSum[pixel] += y * y;
-    if (m_iteration == 0 || index < m_iterationPilots) {
+    if (pilot) {
         m_pilotLumSum[pixel] += y;
         m_pilotLumSqSum[pixel] += y * y;
         m_pilotCount[pixel] += 1;

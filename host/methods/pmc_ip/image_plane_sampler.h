@@ -99,16 +99,29 @@ public:
     // The sample counts of the next iteration: uniform `initialSpp` for the first, then
     // adaptive, `spp` samples per pixel on average (less than samplesPerIteration for a last
     // iteration that ends a budget; the pilots are at most floor(spp)); `u` in [0,1) drives
-    // the residual pass. Starts the iteration.
+    // the residual pass. Starts the iteration: its samples continue each pixel's sequence after
+    // all the samples allocated before (taken or still to be added), so the next allocation
+    // may be made before the last samples of this one are in (the weights then use the pilot
+    // samples added so far: pmc_ip_integrator.cpp overlaps them with the device's work).
     const std::vector<uint32_t>& allocate(double u, double spp);
     const std::vector<uint32_t>& allocate(double u) { return allocate(u, m_options.samplesPerIteration); }
     // The result of sample `index` (0, 1, ... within the iteration) of `pixel` (NaN samples
-    // already zeroed). A render stopped mid-iteration just leaves some samples out: which ones
-    // depends on time, not on values.
-    void addSample(uint32_t pixel, uint32_t index, const glm::vec3& radiance);
+    // already zeroed), in the iteration last allocated. A render stopped mid-iteration just
+    // leaves some samples out: which ones depends on time, not on values.
+    void addSample(uint32_t pixel, uint32_t index, const glm::vec3& radiance) {
+        addResult(pixel, isPilot(index), radiance);
+    }
+    // Whether sample `index` of the iteration last allocated is a pilot sample (all of the
+    // first iteration's are), and the result of a sample whose pilot status was taken then
+    // (an iteration's samples may come in after the next one is allocated).
+    bool isPilot(uint32_t index) const { return m_allocations <= 1 || index < m_iterationPilots; }
+    void addResult(uint32_t pixel, bool pilot, const glm::vec3& radiance);
     // The point of the pixel's sampler sequence that sample 0 of this iteration is: the samples
     // it had before the iteration.
     uint32_t sequenceStart(uint32_t pixel) const { return m_sequenceStart[pixel]; }
+    const std::vector<uint32_t>& sequenceStarts() const { return m_sequenceStart; }
+    // Pilot samples per pixel of the iteration last allocated (every sample of the first).
+    uint32_t iterationPilots() const { return m_iterationPilots; }
     void finishIteration() { ++m_iteration; }
 
     uint64_t samplesTaken() const { return m_samplesTaken; }
@@ -127,8 +140,10 @@ private:
     ImagePlaneOptions m_options;
     uint32_t m_iteration = 0;
     uint64_t m_samplesTaken = 0;
+    uint32_t m_allocations = 0;      // iterations allocated
     std::vector<uint32_t> m_allocated;
     std::vector<uint32_t> m_sequenceStart;
+    std::vector<uint32_t> m_scheduled;  // samples allocated to each pixel so far
     uint32_t m_iterationPilots = 0;  // pilot samples per pixel this iteration
     std::vector<double> m_alpha;
     // Every sample: radiance sum, count and luminance moments; the pilot samples' luminance

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <limits>
 
 #include "core/error.h"
@@ -24,7 +25,7 @@ std::vector<MethodOption> pmcIpOptions(bool direct) {
     std::vector<MethodOption> options = {
         {"iterations", "0", "adaptive iterations after the first (0: as many as --spp or --time allow)"},
         {"initial-spp", "4", "samples per pixel of the first, uniform iteration"},
-        {"spp-per-iteration", "4", "average samples per pixel of each adaptive iteration (N / pixels)"},
+        {"spp-per-iteration", "4", "average samples per pixel of each adaptive iteration (N / pixels; on a GPU at least 2^23 / pixels unless given)"},
         {"epsilon", "0.01", "defensive weight: every pixel's mixture weight is at least epsilon / pixels"},
         {"min-spp", "1", "pilot samples every pixel gets in every iteration; they alone drive the adaptation"},
         {"variance-radius", "2", "a pixel's weight comes from its neighbours' pilot variance within this radius"},
@@ -60,6 +61,7 @@ std::vector<MethodOption> pmcIpHiOptions() {
 PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator)
     : m_estimator(estimator), m_baseline(parseBaselineOptions(settings)) {
     m_options.samplesPerIteration = settings.optionDouble("spp-per-iteration", 4.0);
+    m_samplesPerIterationGiven = settings.options.count("spp-per-iteration") > 0;
     if (!(m_options.samplesPerIteration > 0.0 && m_options.samplesPerIteration <= 4096.0))
         throw Error("--spp-per-iteration: expected a number of samples per pixel in (0, 4096]");
     const int initial = settings.optionInt("initial-spp", 4);
@@ -100,7 +102,16 @@ RenderOutput PmcIp::render(RenderSession& session) {
                        m_baseline.kernelOptions());
     Film& film = session.film();
     const uint32_t pixels = film.pixelCount();
-    ImagePlaneSampler sampler(film.width(), film.height(), m_options);
+    // Iterations sized to the device (issue 38): 4 spp at 256x256 keep an H200 busy for 2 ms,
+    // less than the host takes to adapt; on a GPU an iteration takes at least 2^23 samples
+    // unless --spp-per-iteration says otherwise (a function of the device and the image size
+    // only, so the same seed on the same device gives the same image). pm-pmc keeps its
+    // iterations: each is also a photon pass.
+    ImagePlaneOptions options = m_options;
+    if (!m_samplesPerIterationGiven && !context.isCpuDevice() && m_estimator != Estimator::PhotonGather)
+        options.samplesPerIteration =
+            std::clamp(std::floor(double(1u << 23) / double(pixels)), options.samplesPerIteration, 4096.0);
+    ImagePlaneSampler sampler(film.width(), film.height(), options);
     // Several ranks adapt as one population: the pilot statistics are summed over them before
     // every allocation, PMC-HI's feedback sums after every iteration (core/communicator.h).
     Communicator& comm = session.comm();
@@ -113,17 +124,17 @@ RenderOutput PmcIp::render(RenderSession& session) {
         const double spp = settings.spp > 0 ? double(settings.spp)
                            : settings.timeLimit > 0.0 ? std::numeric_limits<double>::infinity()
                                                       : double(kDefaultSpp);
-        const double rest = spp - double(m_options.initialSpp);
+        const double rest = spp - double(options.initialSpp);
         iterations = std::isinf(rest) ? std::numeric_limits<uint32_t>::max()
-                     : rest > 0.0    ? uint64_t(std::ceil(rest / m_options.samplesPerIteration - 1e-9))
+                     : rest > 0.0    ? uint64_t(std::ceil(rest / options.samplesPerIteration - 1e-9))
                                      : 0;
     }
     const uint64_t totalIterations = iterations + 1;
     // Samples per pixel in all: --spp exactly (the last iteration takes what is left), or what
     // --iterations asks for.
     const double budgetSpp = m_iterations == 0 && settings.spp > 0
-                                 ? std::max(double(settings.spp), double(m_options.initialSpp))
-                                 : double(m_options.initialSpp) + double(iterations) * m_options.samplesPerIteration;
+                                 ? std::max(double(settings.spp), double(options.initialSpp))
+                                 : double(options.initialSpp) + double(iterations) * options.samplesPerIteration;
 
     // Two batches in flight (issue 38): while the device traces one, the host reduces the
     // other's results and writes the next one's requests. Each has its own requests, results,
@@ -134,7 +145,9 @@ RenderOutput PmcIp::render(RenderSession& session) {
         std::unique_ptr<vk::DescriptorSet> work;
         std::unique_ptr<vk::CommandBatch> batch;
         std::vector<gpu::SampleRequest> list;
+        std::vector<uint8_t> pilot;  // whether each request is a pilot sample of its iteration
         uint32_t dispatches = 0;
+        uint64_t sequence = 0;       // submission order
         std::chrono::steady_clock::time_point submitted;
         bool pending = false;
     };
@@ -207,123 +220,67 @@ RenderOutput PmcIp::render(RenderSession& session) {
 
     // pm-pmc: a photon pass per image-plane iteration (photon_map.h).
     std::unique_ptr<PhotonMap> photonMap;
-    if (m_estimator == Estimator::PhotonGather) photonMap = std::make_unique<PhotonMap>(session, m_photons, m_options.samplesPerIteration);
+    if (m_estimator == Estimator::PhotonGather) photonMap = std::make_unique<PhotonMap>(session, m_photons, options.samplesPerIteration);
 
-    // A batch that completed: its counters and results join the totals and the sampler, in
-    // request order (the same seed gives the same sums), and the sizer learns from its time on
-    // the device (from when it could start: submitted, and the batch before it done).
-    auto lastDone = std::chrono::steady_clock::now();
-    auto finishBatch = [&](BatchSlot& slot) {
-        if (!slot.pending) return;
-        slot.batch->wait();
-        slot.pending = false;
-        const auto now = std::chrono::steady_clock::now();
-        const double seconds = std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
-        lastDone = now;
-        const uint32_t n = uint32_t(slot.list.size());
-        sizer.record(n / slot.dispatches, seconds / slot.dispatches);
-        Film::addCounters(slot.counters, session.counters());
-        const auto reduceStart = std::chrono::steady_clock::now();
-        results.resize(n);
-        slot.results.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
-        for (uint32_t k = 0; k < n; ++k) {
-            const uint32_t pixel = slot.list[k].pixel;
-            sampler.addSample(pixel, slot.list[k].sampleIndex - sampler.sequenceStart(pixel), glm::vec3(results[k]));
-        }
-        if (pmcHi) {
-            // Each pixel's sum of its samples' final weights this iteration.
-            requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
-            slot.alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
-            for (uint32_t k = 0; k < n; ++k) {
-                const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
-                float* sum = &iterationSums[size_t(slot.list[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
-                float total = 0.0f;
-                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
-                if (!(total > 0.0f)) continue;
-                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
-                sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
-            }
-        }
-        reduceSeconds += since(reduceStart);
-        const double sppDone = double(sampler.samplesTaken()) / double(pixels);
-        const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
-                                    ? session.elapsedSeconds() / settings.timeLimit
-                                    : sppDone / budgetSpp;
-        session.progress().update(fraction, sppDone, "spp");
-        session.snapshotIfDue(sampler.samplesTaken(), resolve);
+    // The iterations allocated and not yet fully reduced, oldest first, each with what its
+    // requests need once the sampler has moved on to the next one: counts, first sequence
+    // indices, pilots, and its request numbers over the whole render. Iteration t + 1 is
+    // allocated when the results of iteration t's requests before `cut` are in; with the
+    // overlap (pmc-ip, pmc-ip-direct on one process) the cut leaves out the last quarter of
+    // t's requests, which the device traces meanwhile, so it never waits for the allocation.
+    // The cut is a request number, so the same seed still gives the same image; the weights
+    // still depend on no sample of their own pixel (image_plane_sampler.h), so the estimator
+    // stays unbiased. PMC-HI's feedback and the photon passes need the whole iteration: no
+    // overlap there, nor across MPI ranks (whose collectives run at iteration boundaries).
+    struct Iteration {
+        uint64_t number = 0;
+        std::vector<uint32_t> counts, start;
+        uint32_t pilots = 0;
+        uint64_t first = 0, cut = 0, end = 0;
+        uint32_t next = 0, index = 0;  // the next request: position in pixelOrder, sample
     };
+    std::deque<Iteration> open;
+    const bool overlap = !pmcHi && !photonMap && !comm.distributed();
+    bool done = false;          // no iteration after the last one allocated
+    uint64_t allocations = 0;   // iterations allocated
+    uint64_t issued = 0, reduced = 0, allocatedEnd = 0;
 
-    session.startClock();
-    uint64_t iteration = 0;
-    for (;; ++iteration) {
+    auto allocateNext = [&](uint64_t number) {
         // The ranks run each iteration together: on while any has budget left (a rank whose
         // budget is spent takes no samples), all stop when any must (time, Ctrl-C).
-        if (session.shouldStopTogether() || !comm.anyTrue(iteration < totalIterations)) break;
+        if (session.shouldStopTogether() || !comm.anyTrue(number < totalIterations)) {
+            done = true;
+            return;
+        }
         if (photonMap) {  // (every batch of the iteration before has finished)
-            photonMap->preparePass(uint32_t(iteration), *slots[0].work);
+            photonMap->preparePass(uint32_t(number), *slots[0].work);
             photonMap->bindPass(*slots[1].work);
         }
         const auto adaptStart = std::chrono::steady_clock::now();
         // The last iteration of a --spp budget takes only what is left of it.
         // (None once it is spent: a rank whose share ends sooner still joins the iterations.)
-        const double spp = iteration == 0 ? double(m_options.initialSpp)
-                                          : std::clamp(budgetSpp - double(m_options.initialSpp) -
-                                                           double(iteration - 1) * m_options.samplesPerIteration,
-                                                       0.0, m_options.samplesPerIteration);
-        const std::vector<uint32_t>& counts = sampler.allocate(rng.nextDouble(), spp);
+        const double spp = number == 0 ? double(options.initialSpp)
+                                       : std::clamp(budgetSpp - double(options.initialSpp) -
+                                                        double(number - 1) * options.samplesPerIteration,
+                                                    0.0, options.samplesPerIteration);
+        Iteration it;
+        it.number = number;
+        it.counts = sampler.allocate(rng.nextDouble(), spp);
+        it.start = sampler.sequenceStarts();
+        it.pilots = number == 0 ? std::numeric_limits<uint32_t>::max() : sampler.iterationPilots();
+        uint64_t requests = 0;
+        for (uint32_t c : it.counts) requests += c;
+        it.first = allocatedEnd;
+        it.end = it.first + requests;
+        it.cut = overlap && requests >= 4 ? it.end - requests / 4 : it.end;
+        allocatedEnd = it.end;
+        open.push_back(std::move(it));
+        ++allocations;
         adaptSeconds += since(adaptStart);
-        // Walk the pixels in Morton order (coherent rays), each pixel's samples the next n
-        // points of its sequence.
-        uint32_t next = 0;  // position in pixelOrder
-        uint32_t index = 0;
-        auto nextRequests = [&](std::vector<gpu::SampleRequest>& requests, uint32_t wanted) {
-            requests.clear();
-            while (requests.size() < wanted && next < pixels) {
-                const uint32_t pixel = pixelOrder[next];
-                if (index >= counts[pixel]) {
-                    ++next;
-                    index = 0;
-                    continue;
-                }
-                requests.push_back({pixel, sampler.sequenceStart(pixel) + index++, glm::vec2(0.0f)});
-            }
-        };
-        for (size_t turn = 0;; ++turn) {
-            if (session.shouldStop()) break;
-            BatchSlot& slot = slots[turn % 2];
-            finishBatch(slot);  // its results are needed before its buffers are written again
-            const uint32_t units = sizer.units();
-            nextRequests(slot.list, uint32_t(std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch)));
-            if (slot.list.empty()) break;
-            slot.requests.upload(slot.list);
-            vk::CommandBatch& batch = *slot.batch;
-            batch.fill(slot.counters, 0);
-            batch.bind(session.scene().descriptorSet());
-            batch.bind(*slot.work);
-            const uint32_t n = uint32_t(slot.list.size());
-            for (uint32_t offset = 0; offset < n; offset += units) {
-                push.requestOffset = offset;
-                push.recordOffset = offset;  // pmc_hi.comp: request i's final alpha at i
-                push.invocationCount = std::min(units, n - offset);
-                if (pmcHi) {
-                    hiPush.pt = push;
-                    batch.dispatch(kernel, hiPush, push.invocationCount);
-                } else {
-                    // pt.comp takes several requests per invocation in turn on a CPU device.
-                    const uint32_t perInvocation =
-                        m_estimator == Estimator::Full ? ptItemsPerInvocation(context, push.invocationCount) : 1;
-                    push.itemsPerInvocation = perInvocation;
-                    batch.dispatch(kernel, push, (push.invocationCount + perInvocation - 1) / perInvocation);
-                }
-            }
-            slot.dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
-            slot.submitted = std::chrono::steady_clock::now();
-            batch.submit();
-            slot.pending = true;
-            // While it runs: the batch before it.
-            finishBatch(slots[(turn + 1) % 2]);
-        }
-        for (BatchSlot& slot : slots) finishBatch(slot);
+    };
+    // The end of an iteration (all its results in, or the render stopping): PMC-HI's feedback.
+    auto completeIteration = [&]() {
+        open.pop_front();
         sampler.finishIteration();
         if (pmcHi) {
             if (comm.distributed()) comm.allReduceSum(iterationSums);
@@ -346,7 +303,162 @@ RenderOutput PmcIp::render(RenderSession& session) {
             adaptSeconds += since(feedbackStart);
         }
         session.snapshotIfDue(sampler.samplesTaken(), resolve);
+    };
+    // After `reduced` moved: completes the iterations whose results are all in and allocates
+    // the next iteration once the newest one's results before its cut are.
+    auto settle = [&]() {
+        for (;;) {
+            if (!open.empty() && open.front().end <= reduced && open.front().end <= issued) {
+                completeIteration();
+            } else if (!done && (open.empty() || open.back().cut <= reduced)) {
+                allocateNext(allocations);
+            } else {
+                break;
+            }
+        }
+    };
+
+    // A batch that completed: its counters and results join the totals and the sampler, in
+    // request order (the same seed gives the same sums), and the sizer learns from its time on
+    // the device (from when it could start: submitted, and the batch before it done).
+    auto lastDone = std::chrono::steady_clock::now();
+    auto finishBatch = [&](BatchSlot& slot) {
+        if (!slot.pending) return;
+        slot.batch->wait();
+        slot.pending = false;
+        const auto now = std::chrono::steady_clock::now();
+        const double seconds = std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
+        lastDone = now;
+        const uint32_t n = uint32_t(slot.list.size());
+        sizer.record(n / slot.dispatches, seconds / slot.dispatches);
+        Film::addCounters(slot.counters, session.counters());
+        const auto reduceStart = std::chrono::steady_clock::now();
+        double settleSeconds = 0.0;  // adapting, counted apart
+        results.resize(n);
+        slot.results.download(results.data(), uint64_t(n) * sizeof(glm::vec4));
+        if (pmcHi) {
+            requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
+            slot.alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
+        }
+        const uint64_t nextEvent = [&] {
+            uint64_t e = std::numeric_limits<uint64_t>::max();
+            if (!open.empty()) e = std::min(e, open.front().end);
+            if (!done && !open.empty()) e = std::min(e, open.back().cut);
+            return e;
+        }();
+        uint64_t event = nextEvent;
+        for (uint32_t k = 0; k < n; ++k) {
+            sampler.addResult(slot.list[k].pixel, slot.pilot[k] != 0, glm::vec3(results[k]));
+            if (pmcHi) {
+                // Each pixel's sum of its samples' final weights this iteration.
+                const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
+                float* sum = &iterationSums[size_t(slot.list[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
+                float total = 0.0f;
+                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
+                if (total > 0.0f) {
+                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
+                    sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
+                }
+            }
+            if (++reduced >= event) {
+                const auto settleStart = std::chrono::steady_clock::now();
+                settle();
+                settleSeconds += since(settleStart);
+                event = std::numeric_limits<uint64_t>::max();
+                if (!open.empty()) event = std::min(event, open.front().end);
+                if (!done && !open.empty()) event = std::min(event, open.back().cut);
+            }
+        }
+        reduceSeconds += since(reduceStart) - settleSeconds;
+        const double sppDone = double(sampler.samplesTaken()) / double(pixels);
+        const double fraction = settings.timeLimit > 0.0 && !(settings.spp > 0 || m_iterations > 0)
+                                    ? session.elapsedSeconds() / settings.timeLimit
+                                    : sppDone / budgetSpp;
+        session.progress().update(fraction, sppDone, "spp");
+        session.snapshotIfDue(sampler.samplesTaken(), resolve);
+    };
+
+    // The next batch's requests: the open iterations' in order, walking the pixels in Morton
+    // order (coherent rays), each pixel's samples the next points of its sequence. A batch ends
+    // at an iteration's cut, so the batch before the cut can be reduced (and the next iteration
+    // allocated) while the one after it runs.
+    auto nextRequests = [&](BatchSlot& slot, uint64_t wanted) {
+        slot.list.clear();
+        slot.pilot.clear();
+        for (Iteration& it : open) {
+            if (issued >= it.end) continue;
+            const uint64_t limit = issued < it.cut ? it.cut : it.end;
+            while (slot.list.size() < wanted && issued < limit) {
+                const uint32_t pixel = pixelOrder[it.next];
+                if (it.index >= it.counts[pixel]) {
+                    ++it.next;
+                    it.index = 0;
+                    continue;
+                }
+                slot.list.push_back({pixel, it.start[pixel] + it.index, glm::vec2(0.0f)});
+                slot.pilot.push_back(it.index < it.pilots ? 1 : 0);
+                ++it.index;
+                ++issued;
+            }
+            break;  // one iteration (and one side of its cut) per batch
+        }
+    };
+
+    session.startClock();
+    settle();  // allocates the first iteration
+    uint64_t sequence = 0;
+    for (size_t turn = 0;; ++turn) {
+        if (session.shouldStop()) break;
+        BatchSlot& slot = slots[turn % 2];
+        BatchSlot& other = slots[(turn + 1) % 2];
+        finishBatch(slot);  // its results are needed before its buffers are written again
+        const uint32_t units = sizer.units();
+        nextRequests(slot, std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch));
+        if (slot.list.empty()) {
+            // Nothing to issue until the batch in flight is in (its results may allocate the
+            // next iteration); with none in flight, the render is done.
+            if (other.pending) {
+                finishBatch(other);
+                continue;
+            }
+            break;
+        }
+        slot.requests.upload(slot.list);
+        vk::CommandBatch& batch = *slot.batch;
+        batch.fill(slot.counters, 0);
+        batch.bind(session.scene().descriptorSet());
+        batch.bind(*slot.work);
+        const uint32_t n = uint32_t(slot.list.size());
+        for (uint32_t offset = 0; offset < n; offset += units) {
+            push.requestOffset = offset;
+            push.recordOffset = offset;  // pmc_hi.comp: request i's final alpha at i
+            push.invocationCount = std::min(units, n - offset);
+            if (pmcHi) {
+                hiPush.pt = push;
+                batch.dispatch(kernel, hiPush, push.invocationCount);
+            } else {
+                // pt.comp takes several requests per invocation in turn on a CPU device.
+                const uint32_t perInvocation =
+                    m_estimator == Estimator::Full ? ptItemsPerInvocation(context, push.invocationCount) : 1;
+                push.itemsPerInvocation = perInvocation;
+                batch.dispatch(kernel, push, (push.invocationCount + perInvocation - 1) / perInvocation);
+            }
+        }
+        slot.dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
+        slot.submitted = std::chrono::steady_clock::now();
+        slot.sequence = sequence++;
+        batch.submit();
+        slot.pending = true;
+        // While it runs: the batch before it.
+        finishBatch(other);
     }
+    // Stopped (time, Ctrl-C) or done: the batches in flight, oldest first; an iteration cut
+    // short still ends (PMC-HI's feedback, the ranks' collectives), and a rank that stopped on
+    // its own joins the others' decision to stop.
+    if (slots[0].pending && slots[1].pending && slots[1].sequence < slots[0].sequence) finishBatch(slots[1]);
+    for (BatchSlot& slot : slots) finishBatch(slot);
+    while (!open.empty()) completeIteration();
+    if (!done) session.shouldStopTogether();
     session.progress().finish();
 
     RenderOutput out;
@@ -358,12 +470,12 @@ RenderOutput PmcIp::render(RenderSession& session) {
     out.diagnostics.emplace_back("samples", sampler.sampleCountImage());
     out.diagnostics.emplace_back("variance", sampler.varianceImage());
     out.methodStats["iterations_completed"] = sampler.iteration();
-    out.methodStats["initial_spp"] = m_options.initialSpp;
+    out.methodStats["initial_spp"] = options.initialSpp;
     out.methodStats["host_adapt_seconds"] = adaptSeconds;
     out.methodStats["host_reduce_seconds"] = reduceSeconds;
-    out.methodStats["spp_per_iteration"] = m_options.samplesPerIteration;
-    out.methodStats["epsilon"] = m_options.epsilon;
-    out.methodStats["min_spp"] = m_options.minSamples;
+    out.methodStats["spp_per_iteration"] = options.samplesPerIteration;
+    out.methodStats["epsilon"] = options.epsilon;
+    out.methodStats["min_spp"] = options.minSamples;
     if (m_estimator == Estimator::Direct) out.methodStats["light_samples"] = m_lightSamples;
     if (pmcHi) {
         // The figure 7 maps from the auxiliary image after the last iteration.
