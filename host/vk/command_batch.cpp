@@ -158,6 +158,7 @@ void CommandBatch::wait() {
     VK_CHECK(vkWaitForFences(m_context.device(), 1, &m_fence, VK_TRUE, UINT64_MAX));
     m_inFlight = false;
     const double span = collectTimes();
+    m_lastDeviceSeconds = span;
     m_context.activity().completed(m_submittedAt, alreadySignalled, span);
 }
 

@@ -50,6 +50,10 @@ public:
     void submit();
     void wait();
     bool inFlight() const { return m_inFlight; }
+    // The last completed submission's span on the device in seconds, first dispatch's start to
+    // last one's end, from timestamps (< 0 without them): what a batch cost the device, even
+    // when the host came to wait for it late.
+    double lastDeviceSeconds() const { return m_lastDeviceSeconds; }
 
 private:
     void begin();
@@ -70,6 +74,7 @@ private:
     VkFence m_fence = VK_NULL_HANDLE;
     bool m_recording = false;
     bool m_inFlight = false;
+    double m_lastDeviceSeconds = -1.0;
     std::chrono::steady_clock::time_point m_submittedAt{};
     bool m_needsBarrier = false;
     uint32_t m_dispatches = 0;

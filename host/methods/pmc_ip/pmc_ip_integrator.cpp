@@ -148,6 +148,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         std::vector<uint8_t> pilot;  // whether each request is a pilot sample of its iteration
         uint32_t dispatches = 0;
         uint64_t sequence = 0;       // submission order
+        uint64_t iteration = 0;      // the iteration its requests belong to
         std::chrono::steady_clock::time_point submitted;
         bool pending = false;
     };
@@ -172,23 +173,27 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // weights, and this iteration's per-pixel sums of them (count last).
     const bool pmcHi = m_estimator == Estimator::PmcHi || m_estimator == Estimator::PhotonGather;
     gpu::PmcHiPush hiPush{};
-    vk::Buffer alphaStart;
+    // The starting weights of even and odd iterations: iteration t + 1's are written while the
+    // device may still trace iteration t's last requests.
+    std::array<vk::Buffer, 2> alphaStart;
     std::vector<float> auxiliary, iterationSums, requestAlpha;
     if (pmcHi) {
         hiPush.hi = pmcHiParamsForScene(m_hi, session.scene());
         if (m_feedback) hiPush.hi.flags |= gpu::PMC_HI_FLAG_FEEDBACK;
         auxiliary.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
         iterationSums.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
-        alphaStart = vk::Buffer(context, VkDeviceSize(pixels) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
-                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha");
-        alphaStart.fill(0);
+        for (vk::Buffer& a : alphaStart) {
+            a = vk::Buffer(context, VkDeviceSize(pixels) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha");
+            a.fill(0);
+        }
         for (BatchSlot& slot : slots) {
             slot.alphaOut = vk::Buffer(context, VkDeviceSize(capacity) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi final alpha",
                                        vk::MemoryUsage::Readback);
             slot.alphaOut.fill(0);  // the kernel writes the slots in use only
             slot.work->bind(gpu::PMC_HI_BINDING_ALPHA, session.placeholder());
-            slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart);
+            slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart[0]);
             slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_OUT, slot.alphaOut);
         }
     }
@@ -230,7 +235,9 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // t's requests, which the device traces meanwhile, so it never waits for the allocation.
     // The cut is a request number, so the same seed still gives the same image; the weights
     // still depend on no sample of their own pixel (image_plane_sampler.h), so the estimator
-    // stays unbiased. PMC-HI's feedback and the photon passes need the whole iteration: no
+    // stays unbiased. PMC-HI's feedback (pmc-ip-hi) is taken at the cut too, from the final
+    // weights of the requests reduced by then: it only seeds each estimate's mixture, which
+    // any start leaves unbiased. The photon passes of pm-pmc need the whole iteration: no
     // overlap there, nor across MPI ranks (whose collectives run at iteration boundaries).
     struct Iteration {
         uint64_t number = 0;
@@ -240,12 +247,40 @@ RenderOutput PmcIp::render(RenderSession& session) {
         uint32_t next = 0, index = 0;  // the next request: position in pixelOrder, sample
     };
     std::deque<Iteration> open;
-    const bool overlap = !pmcHi && !photonMap && !comm.distributed();
+    const bool overlap = !photonMap && !comm.distributed();
     bool done = false;          // no iteration after the last one allocated
     uint64_t allocations = 0;   // iterations allocated
     uint64_t issued = 0, reduced = 0, allocatedEnd = 0;
 
+    // PMC-HI's feedback (sec. 6.1): the auxiliary image takes each sampled pixel's mean final
+    // weights since the last feedback (pixels without an adapted estimate keep theirs) and
+    // seeds iteration `number`'s estimates.
+    auto feedback = [&](uint64_t number) {
+        if (comm.distributed()) comm.allReduceSum(iterationSums);
+        const auto feedbackStart = std::chrono::steady_clock::now();
+        std::vector<float> start(size_t(pixels) * gpu::PMC_HI_MAX_COMPONENTS);
+        for (uint32_t p = 0; p < pixels; ++p) {
+            float* sum = &iterationSums[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+            float* aux = &auxiliary[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
+            const float count = sum[gpu::PMC_HI_MAX_COMPONENTS];
+            if (count > 0.0f) {
+                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) aux[c] = sum[c] / count;
+                aux[gpu::PMC_HI_MAX_COMPONENTS] = 1.0f;
+            }
+            std::copy(aux, aux + gpu::PMC_HI_MAX_COMPONENTS, &start[size_t(p) * gpu::PMC_HI_MAX_COMPONENTS]);
+            std::fill(sum, sum + gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
+        }
+        // (No batch of iteration number - 2, which used this buffer, is still in flight.)
+        if (m_feedback) alphaStart[number % 2].upload(start);
+        adaptSeconds += since(feedbackStart);
+    };
+    bool feedbackDue = false;  // an iteration was allocated since the last feedback
+
     auto allocateNext = [&](uint64_t number) {
+        if (pmcHi && feedbackDue) {
+            feedback(number);
+            feedbackDue = false;
+        }
         // The ranks run each iteration together: on while any has budget left (a rank whose
         // budget is spent takes no samples), all stop when any must (time, Ctrl-C).
         if (session.shouldStopTogether() || !comm.anyTrue(number < totalIterations)) {
@@ -276,32 +311,13 @@ RenderOutput PmcIp::render(RenderSession& session) {
         allocatedEnd = it.end;
         open.push_back(std::move(it));
         ++allocations;
+        feedbackDue = true;
         adaptSeconds += since(adaptStart);
     };
-    // The end of an iteration (all its results in, or the render stopping): PMC-HI's feedback.
+    // The end of an iteration (all its results in, or the render stopping).
     auto completeIteration = [&]() {
         open.pop_front();
         sampler.finishIteration();
-        if (pmcHi) {
-            if (comm.distributed()) comm.allReduceSum(iterationSums);
-            // Sec. 6.1: the auxiliary image takes each sampled pixel's mean final weights and
-            // seeds the next iteration (pixels without an adapted estimate keep theirs).
-            const auto feedbackStart = std::chrono::steady_clock::now();
-            std::vector<float> start(size_t(pixels) * gpu::PMC_HI_MAX_COMPONENTS);
-            for (uint32_t p = 0; p < pixels; ++p) {
-                float* sum = &iterationSums[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
-                float* aux = &auxiliary[size_t(p) * gpu::PMC_HI_ALPHA_STRIDE];
-                const float count = sum[gpu::PMC_HI_MAX_COMPONENTS];
-                if (count > 0.0f) {
-                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) aux[c] = sum[c] / count;
-                    aux[gpu::PMC_HI_MAX_COMPONENTS] = 1.0f;
-                }
-                std::copy(aux, aux + gpu::PMC_HI_MAX_COMPONENTS, &start[size_t(p) * gpu::PMC_HI_MAX_COMPONENTS]);
-                std::fill(sum, sum + gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
-            }
-            if (m_feedback) alphaStart.upload(start);
-            adaptSeconds += since(feedbackStart);
-        }
         session.snapshotIfDue(sampler.samplesTaken(), resolve);
     };
     // After `reduced` moved: completes the iterations whose results are all in and allocates
@@ -327,7 +343,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
         slot.batch->wait();
         slot.pending = false;
         const auto now = std::chrono::steady_clock::now();
-        const double seconds = std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
+        // Its time on the device from timestamps; else from when it could start.
+        const double seconds = slot.batch->lastDeviceSeconds() > 0.0
+                                   ? slot.batch->lastDeviceSeconds()
+                                   : std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
         lastDone = now;
         const uint32_t n = uint32_t(slot.list.size());
         sizer.record(n / slot.dispatches, seconds / slot.dispatches);
@@ -400,6 +419,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
                 ++it.index;
                 ++issued;
             }
+            slot.iteration = it.number;
             break;  // one iteration (and one side of its cut) per batch
         }
     };
@@ -424,6 +444,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
             break;
         }
         slot.requests.upload(slot.list);
+        if (pmcHi) slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart[slot.iteration % 2]);
         vk::CommandBatch& batch = *slot.batch;
         batch.fill(slot.counters, 0);
         batch.bind(session.scene().descriptorSet());
@@ -458,7 +479,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     if (slots[0].pending && slots[1].pending && slots[1].sequence < slots[0].sequence) finishBatch(slots[1]);
     for (BatchSlot& slot : slots) finishBatch(slot);
     while (!open.empty()) completeIteration();
-    if (!done) session.shouldStopTogether();
+    if (!done) {
+        if (pmcHi && feedbackDue) feedback(allocations);  // the figure 7 maps; the ranks' collectives
+        session.shouldStopTogether();
+    }
     session.progress().finish();
 
     RenderOutput out;
