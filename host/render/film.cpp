@@ -9,8 +9,7 @@ Film::Film(vk::Context& context, int width, int height)
       m_height(height),
       m_pixels(context, VkDeviceSize(width) * VkDeviceSize(height) * sizeof(gpu::FilmPixel),
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "film"),
-      m_counters(context, gpu::COUNTER_COUNT * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                 "counters", vk::MemoryUsage::Readback) {
+      m_counters(makeCounters(context, "counters")) {
     clear();
 }
 

@@ -49,7 +49,6 @@ public:
     // a second batch recorded meanwhile: two in flight). wait() after submit() only.
     void submit();
     void wait();
-    bool inFlight() const { return m_inFlight; }
     // The last completed submission's span on the device in seconds, first dispatch's start to
     // last one's end, from timestamps (< 0 without them): what a batch cost the device, even
     // when the host came to wait for it late.

@@ -17,32 +17,13 @@
 #include <tuple>
 #include <vector>
 
+#include "vk/device_activity.h"
+
 namespace pmcr::vk {
 
 class PipelineLayout;
 class PipelineCache;
 class Kernel;
-
-// Whether the device has work: the time with at least one submission in flight, summed, for the
-// stats' device_idle_seconds (a render's time minus this). A submission counts from
-// vkQueueSubmit until the host sees its fence signalled, or, when the fence had signalled
-// before the host looked, until the end its kernels' timestamps give (execution starts when
-// both it is submitted and the one before it is done).
-class DeviceActivity {
-public:
-    using Clock = std::chrono::steady_clock;
-    void submitted(Clock::time_point t);
-    // `deviceSeconds`: the submission's span on the device from timestamps (< 0: unknown).
-    void completed(Clock::time_point submittedAt, bool alreadySignalled, double deviceSeconds);
-    // Seconds with work in flight up to now.
-    double busySeconds() const;
-
-private:
-    int m_inFlight = 0;
-    Clock::time_point m_since{};
-    Clock::time_point m_lastEnd{};
-    double m_busy = 0.0;
-};
 
 struct ContextOptions {
     bool validate = false;       // enable VK_LAYER_KHRONOS_validation (+ synchronization checks)

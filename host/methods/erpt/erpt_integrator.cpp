@@ -110,8 +110,9 @@ RenderOutput Erpt::render(RenderSession& session) {
     const uint32_t chainCapacity = gpu ? kChainCapacityGpu : kChainCapacityCpu;
     // Seed passes run together, S: their seed paths are traced in one set of records and their
     // chains run side by side, into the same splat film; the image is the film over the passes
-    // either way. The number of chains a pass starts is about pixels k / m (the seed energy in
-    // units of e_d over the chain length), so a GPU takes as many passes as fill
+    // either way. The number of chains a pass starts is about pixels k / m: the seed energy,
+    // pixels e_ave, over the m e_d each chain deposits, with e_d = e_ave / k (ERPT eq. 7 and
+    // sec. 3.2; less with --redistribute indirect), so a GPU takes as many passes as fill
     // chainCapacity. A deterministic function of the options, the image size and the device.
     const double chainsPerPass = std::max(1.0, double(pixels) * o.mutationsPerPixel / double(o.chainLength));
     const uint32_t together =
@@ -150,7 +151,6 @@ RenderOutput Erpt::render(RenderSession& session) {
     gpu::PtPush ptPush{};
     ptPush.source = gpu::PT_SOURCE_TILE;
     ptPush.flags = 0;  // records only: the seed samples reach the image through their chains
-    ptPush.samplesPerPixel = together;  // record i S + k: the pixel's sample of pass + k
     ptPush.seed = settings.seed;
     ptPush.maxDepth = std::min(settings.maxDepth, gpu::PATH_MAX_VERTICES - 1);
     ptPush.rrDepth = settings.rrDepth;
@@ -187,7 +187,7 @@ RenderOutput Erpt::render(RenderSession& session) {
             // This batch of passes: S, or what --spp leaves.
             const uint32_t passesNow = std::min(together, spp - pass);
             push.pass = pass;
-            ptPush.samplesPerPixel = passesNow;
+            ptPush.samplesPerPixel = passesNow;  // record i S + k: the pixel's sample of pass + k
             bool interrupted = false;
             for (uint32_t first = 0; first < pixels && !interrupted; first += chunkPixels) {
                 const uint32_t nPixels = std::min(chunkPixels, pixels - first);

@@ -359,13 +359,14 @@ RenderOutput PmcIp::render(RenderSession& session) {
             requestAlpha.resize(size_t(n) * gpu::PMC_HI_MAX_COMPONENTS);
             slot.alphaOut.download(requestAlpha.data(), requestAlpha.size() * sizeof(float));
         }
-        const uint64_t nextEvent = [&] {
+        // The next request number at which settle() has something to do.
+        auto nextEvent = [&] {
             uint64_t e = std::numeric_limits<uint64_t>::max();
             if (!open.empty()) e = std::min(e, open.front().end);
             if (!done && !open.empty()) e = std::min(e, open.back().cut);
             return e;
-        }();
-        uint64_t event = nextEvent;
+        };
+        uint64_t event = nextEvent();
         for (uint32_t k = 0; k < n; ++k) {
             sampler.addResult(slot.list[k].pixel, slot.pilot[k] != 0, glm::vec3(results[k]));
             if (pmcHi) {
@@ -383,9 +384,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
                 const auto settleStart = std::chrono::steady_clock::now();
                 settle();
                 settleSeconds += since(settleStart);
-                event = std::numeric_limits<uint64_t>::max();
-                if (!open.empty()) event = std::min(event, open.front().end);
-                if (!done && !open.empty()) event = std::min(event, open.back().cut);
+                event = nextEvent();
             }
         }
         reduceSeconds += since(reduceStart) - settleSeconds;
