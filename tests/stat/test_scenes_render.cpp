@@ -61,16 +61,28 @@ TEST_P(SceneRenders, LoadsHasALightAndRendersWithoutNaNs) {
     EXPECT_GT(sum, 0.0) << "an all-black image";
 }
 
+std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std::string>>& info) {
+    std::string name = std::filesystem::path(std::get<0>(info.param)).stem().string() + "_" +
+                       std::get<1>(info.param);
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+}
+
+// check: every scene with pt, and the other methods' own path construction (mlt, pssmlt) and
+// photon shooting (pm, pm-pmc) on the box with a glass sphere. The full tier: every method on
+// every scene (tests/CMakeLists.txt).
 INSTANTIATE_TEST_SUITE_P(AllScenes, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("pt")),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(OneScene, SceneRenders,
+                         ::testing::Combine(::testing::Values("scenes/cornell-glass.glb"),
+                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc")),
+                         paramName);
+INSTANTIATE_TEST_SUITE_P(EveryMethod, SceneRenders,
                          ::testing::Combine(::testing::ValuesIn(sceneFiles()),
-                                            ::testing::Values("pt", "mlt", "pssmlt", "pm", "pm-pmc")),
-                         [](const auto& info) {
-                             std::string name = std::filesystem::path(std::get<0>(info.param)).stem().string() +
-                                                "_" + std::get<1>(info.param);
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
+                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc")),
+                         paramName);
 
 }  // namespace
 }  // namespace pmcr::test
