@@ -22,7 +22,9 @@
 namespace pmcr::test {
 namespace {
 
-class ErLights : public GpuTest {};
+// Two suites, so that ctest runs them side by side (their kernels differ by the lights anyway).
+class ErLightsPunctual : public GpuTest {};
+class ErLightsSky : public GpuTest {};
 
 // cornell-glass with a point light near the ceiling and a spot light aimed at the sphere's side.
 Scene withPointLights() {
@@ -135,9 +137,9 @@ void expectAllUnbiased(const Scene& scene, bool directZTest) {
     expectUnbiased(scene, settingsFor("mlt", 16), 40, full);
 }
 
-TEST_F(ErLights, PointAndSpotLights) { expectAllUnbiased(withPointLights(), true); }
+TEST_F(ErLightsPunctual, PointAndSpotLights) { expectAllUnbiased(withPointLights(), true); }
 
-TEST_F(ErLights, EnvironmentAndDirectionalLight) { expectAllUnbiased(withSkyAndSun(), false); }
+TEST_F(ErLightsSky, EnvironmentAndDirectionalLight) { expectAllUnbiased(withSkyAndSun(), false); }
 
 }  // namespace
 }  // namespace pmcr::test
