@@ -287,10 +287,13 @@ RenderOutput PmcIp::render(RenderSession& session) {
             done = true;
             return;
         }
-        if (photonMap) {  // (every batch of the iteration before has finished)
-            photonMap->preparePass(uint32_t(number), *slots[0].work);
-            photonMap->bindPass(*slots[1].work);
-        }
+        // The iteration's photon pass, shot and sorted while the iteration before it was traced
+        // (photon_map.h), and the next one shot now. (No batch of iteration number - 2, which
+        // read the buffers this pass goes to, is in flight.)
+        if (photonMap)
+            photonMap->preparePass(uint32_t(number), number + 1 >= totalIterations ? PhotonMap::Next::No
+                                                     : settings.timeLimit > 0.0   ? PhotonMap::Next::IfLikelyGathered
+                                                                                  : PhotonMap::Next::Yes);
         const auto adaptStart = std::chrono::steady_clock::now();
         // The last iteration of a --spp budget takes only what is left of it.
         // (None once it is spent: a rank whose share ends sooner still joins the iterations.)
@@ -338,6 +341,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // request order (the same seed gives the same sums), and the sizer learns from its time on
     // the device (from when it could start: submitted, and the batch before it done).
     auto lastDone = std::chrono::steady_clock::now();
+    double requestSeconds = 0.0;  // the device's, over the requests reduced
     auto finishBatch = [&](BatchSlot& slot) {
         if (!slot.pending) return;
         slot.batch->wait();
@@ -350,6 +354,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         lastDone = now;
         const uint32_t n = uint32_t(slot.list.size());
         sizer.record(n / slot.dispatches, seconds / slot.dispatches);
+        requestSeconds += seconds;
         Film::addCounters(slot.counters, session.counters());
         const auto reduceStart = std::chrono::steady_clock::now();
         double settleSeconds = 0.0;  // adapting, counted apart
@@ -442,8 +447,17 @@ RenderOutput PmcIp::render(RenderSession& session) {
             }
             break;
         }
+        // pm-pmc under --time: the next iteration's photons are shot once this one looks like
+        // ending before the clock (from the device's seconds per request so far); a pass shot
+        // and never gathered would cost the device its shoot.
+        if (photonMap && settings.timeLimit > 0.0 && !done && allocations < totalIterations &&
+            !photonMap->shotAhead(uint32_t(allocations)) && reduced > 0 &&
+            session.elapsedSeconds() + double(allocatedEnd - reduced) * requestSeconds / double(reduced) <
+                settings.timeLimit)
+            photonMap->shootAhead(uint32_t(allocations));
         slot.requests.upload(slot.list);
         if (pmcHi) slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart[slot.iteration % 2]);
+        if (photonMap) photonMap->bindPass(uint32_t(slot.iteration), *slot.work);
         vk::CommandBatch& batch = *slot.batch;
         batch.fill(slot.counters, 0);
         batch.bind(session.scene().descriptorSet());
@@ -469,6 +483,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
         slot.sequence = sequence++;
         batch.submit();
         slot.pending = true;
+        // The next photon pass, queued ahead of this batch, is sorted while it runs.
+        if (photonMap) photonMap->buildNextInBackground();
         // While it runs: the batch before it.
         finishBatch(other);
     }
