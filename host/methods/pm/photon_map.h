@@ -95,7 +95,7 @@ public:
     // grid built in the background, and uploads it to set pass % 2. With `next` Yes, the next
     // pass's photons are then shot on the device (ahead of the gathers the caller submits next);
     // IfLikelyGathered (under --time) shoots it while the host sorts this pass only if this
-    // pass's gathers, guessed at 2 shoots' time, would end before the clock (otherwise the
+    // pass's gathers, guessed from its shoot's time, would end before the clock (otherwise the
     // caller decides later, with shootAhead).
     // The caller guarantees that no batch in flight reads set pass % 2 (pass - 2's gathers are
     // done); passes are prepared in order.
@@ -146,6 +146,7 @@ private:
     uint32_t m_slotsPerPath = 0;
     uint32_t m_passesPrepared = 0;  // passes whose map was made ready (gathered, or about to be)
     uint32_t m_passesShot = 0;
+    double m_gatherShoots = 0.0;  // a pass's gathers guessed in shoots (IfLikelyGathered)
     double m_r0 = 0.0;
     double m_surfaceArea = 0.0;
     gpu::PhotonMapInfo m_info{};  // the last prepared pass's

@@ -69,9 +69,9 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
     std::array<GatherSlot, 2> slots;
     for (size_t i = 0; i < slots.size(); ++i) {
         GatherSlot& slot = slots[i];
-        const std::string tag = " " + std::to_string(i);
-        slot.counters = Film::makeCounters(session.context(), "pm counters" + tag);
-        slot.work = std::make_unique<vk::DescriptorSet>(session.layout(), vk::DescriptorSet::Kind::Work, "pm work" + tag);
+        const std::string tag = std::to_string(i);
+        slot.counters = Film::makeCounters(session.context(), "pm counters " + tag);
+        slot.work = std::make_unique<vk::DescriptorSet>(session.layout(), vk::DescriptorSet::Kind::Work, "pm work " + tag);
         bindTileWork(*slot.work, film, session);
         slot.work->bind(gpu::PT_BINDING_COUNTERS, slot.counters);
         slot.batch = std::make_unique<vk::CommandBatch>(session.layout(), &session.timer());
