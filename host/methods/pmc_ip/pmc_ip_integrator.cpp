@@ -237,8 +237,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // still depend on no sample of their own pixel (image_plane_sampler.h), so the estimator
     // stays unbiased. PMC-HI's feedback (pmc-ip-hi) is taken at the cut too, from the final
     // weights of the requests reduced by then: it only seeds each estimate's mixture, which
-    // any start leaves unbiased. The photon passes of pm-pmc need the whole iteration: no
-    // overlap there, nor across MPI ranks (whose collectives run at iteration boundaries).
+    // any start leaves unbiased. pm-pmc's photon pass for iteration t + 1 is prepared at the
+    // cut too: it was shot and sorted while t was traced, and goes to the buffers of t - 1's,
+    // whose batches are all in (photon_map.h). No overlap across MPI ranks (whose collectives
+    // run at iteration boundaries).
     struct Iteration {
         uint64_t number = 0;
         std::vector<uint32_t> counts, start;
@@ -247,7 +249,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         uint32_t next = 0, index = 0;  // the next request: position in pixelOrder, sample
     };
     std::deque<Iteration> open;
-    const bool overlap = !photonMap && !comm.distributed();
+    const bool overlap = !comm.distributed();
     bool done = false;          // no iteration after the last one allocated
     uint64_t allocations = 0;   // iterations allocated
     uint64_t issued = 0, reduced = 0, allocatedEnd = 0;
