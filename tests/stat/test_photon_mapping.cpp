@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/random.h"
 #include "gpu_test.h"
 #include "methods/pm/photon_map.h"
 #include "methods/pt/pt_integrator.h"
@@ -45,6 +46,38 @@ TEST_F(PhotonMapping, SameSeedSameImageBitForBit) {
         auto a = renderForTest(scene, s);
         auto b = renderForTest(scene, s);
         EXPECT_EQ(a.output.image.rgb, b.output.image.rgb) << method;
+    }
+}
+
+// The grid's sort, spread over the cores in blocks, is one thread's stable counting sort: every
+// bucket holds its photons in path order (what makes a seed's map the same bit for bit), for a
+// hash table of few buckets (many photons each, across blocks) and of many.
+TEST(PhotonGrid, SortIsAStableCountingSortByBucket) {
+    Pcg32 rng(7, 0);
+    std::vector<gpu::Photon> photons(100000);
+    for (size_t i = 0; i < photons.size(); ++i) {
+        photons[i] = gpu::Photon{};
+        photons[i].position = glm::vec3(float(rng.nextDouble()), float(rng.nextDouble()), float(rng.nextDouble())) * 4.0f - 2.0f;
+        photons[i].flags = uint32_t(i);  // the path order
+    }
+    for (uint32_t hashSize : {1024u, 1u << 18}) {
+        std::vector<gpu::Photon> sorted;
+        std::vector<glm::uvec2> cells;
+        buildPhotonGrid(photons, 0.05f, hashSize, sorted, cells);
+        // One thread's counting sort.
+        std::vector<std::vector<uint32_t>> buckets(hashSize);
+        for (const gpu::Photon& p : photons) {
+            const glm::vec3 c = glm::floor(p.position / 0.05f);
+            buckets[photonCellBucket(int32_t(c.x), int32_t(c.y), int32_t(c.z), hashSize)].push_back(p.flags);
+        }
+        ASSERT_EQ(cells.size(), size_t(hashSize));
+        ASSERT_EQ(sorted.size(), photons.size());
+        uint32_t first = 0;
+        for (uint32_t b = 0; b < hashSize; ++b) {
+            ASSERT_EQ(cells[b], glm::uvec2(first, uint32_t(buckets[b].size()))) << "bucket " << b;
+            for (uint32_t k = 0; k < cells[b].y; ++k) ASSERT_EQ(sorted[first + k].flags, buckets[b][k]);
+            first += cells[b].y;
+        }
     }
 }
 

@@ -8,6 +8,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
 #include "vk/context.h"
@@ -102,24 +103,94 @@ uint32_t photonCellBucket(int32_t x, int32_t y, int32_t z, uint32_t hashSize) {
 
 void buildPhotonGrid(const std::vector<gpu::Photon>& photons, float cellSize, uint32_t hashSize,
                      std::vector<gpu::Photon>& sorted, std::vector<glm::uvec2>& cells) {
+    // A stable counting sort in two levels, each spread over the cores: the photons are first
+    // partitioned (stably, block by block) into kRanges ranges of buckets by the buckets' high
+    // bits, then each range is sorted by bucket on its own. Within a bucket the photons keep
+    // their path order, as one thread's counting sort would leave them.
+    constexpr size_t kBlock = 16384;
+    const size_t n = photons.size();
     cells.assign(hashSize, glm::uvec2(0u));
-    std::vector<uint32_t> bucket(photons.size());
-    for (size_t i = 0; i < photons.size(); ++i) {
-        // The same float arithmetic as the lookup's floor((x +- r) / cellSize).
-        const glm::vec3 c = glm::floor(photons[i].position / cellSize);
-        bucket[i] = photonCellBucket(int32_t(c.x), int32_t(c.y), int32_t(c.z), hashSize);
-        cells[bucket[i]].y += 1;
+    sorted.resize(n);
+    if (n == 0) return;
+    uint32_t bits = 0;
+    while ((1u << bits) < hashSize) ++bits;
+    const uint32_t rangeBits = std::min<uint32_t>(bits, 6);
+    const uint32_t ranges = 1u << rangeBits, shift = bits - rangeBits;
+    const size_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<uint32_t> bucket(n);
+    std::vector<uint32_t> histogram(blocks * ranges, 0u);
+    parallelFor(n, kBlock, [&](size_t begin, size_t end) {
+        uint32_t* h = &histogram[(begin / kBlock) * ranges];
+        for (size_t i = begin; i < end; ++i) {
+            // The same float arithmetic as the lookup's floor((x +- r) / cellSize).
+            const glm::vec3 c = glm::floor(photons[i].position / cellSize);
+            bucket[i] = photonCellBucket(int32_t(c.x), int32_t(c.y), int32_t(c.z), hashSize);
+            ++h[bucket[i] >> shift];
+        }
+    });
+    // Each block's first position in each range (ranges in order, blocks in order within one).
+    std::vector<uint32_t> rangeFirst(ranges + 1, 0u);
+    {
+        uint32_t first = 0;
+        for (uint32_t r = 0; r < ranges; ++r) {
+            rangeFirst[r] = first;
+            for (size_t b = 0; b < blocks; ++b) {
+                const uint32_t count = histogram[b * ranges + r];
+                histogram[b * ranges + r] = first;
+                first += count;
+            }
+        }
+        rangeFirst[ranges] = first;
     }
-    uint32_t first = 0;
-    for (glm::uvec2& cell : cells) {
-        cell.x = first;
-        first += cell.y;
-    }
-    sorted.resize(photons.size());
-    std::vector<uint32_t> next(hashSize);
-    for (uint32_t b = 0; b < hashSize; ++b) next[b] = cells[b].x;
-    for (size_t i = 0; i < photons.size(); ++i) sorted[next[bucket[i]]++] = photons[i];
+    std::vector<uint32_t> order(n);
+    parallelFor(n, kBlock, [&](size_t begin, size_t end) {
+        uint32_t* next = &histogram[(begin / kBlock) * ranges];
+        for (size_t i = begin; i < end; ++i) order[next[bucket[i] >> shift]++] = uint32_t(i);
+    });
+    // Each range's buckets: counts, firsts, then the photons in order.
+    const uint32_t bucketsPerRange = 1u << shift;
+    parallelFor(ranges, 1, [&](size_t r0, size_t r1) {
+        for (size_t r = r0; r < r1; ++r) {
+            for (uint32_t j = rangeFirst[r]; j < rangeFirst[r + 1]; ++j) cells[bucket[order[j]]].y += 1;
+            uint32_t first = rangeFirst[r];
+            glm::uvec2* range = &cells[r * bucketsPerRange];
+            for (uint32_t b = 0; b < bucketsPerRange; ++b) {
+                range[b].x = first;
+                first += range[b].y;
+            }
+            std::vector<uint32_t> next(bucketsPerRange);
+            for (uint32_t b = 0; b < bucketsPerRange; ++b) next[b] = range[b].x;
+            for (uint32_t j = rangeFirst[r]; j < rangeFirst[r + 1]; ++j) {
+                const uint32_t i = order[j];
+                sorted[next[bucket[i] - r * bucketsPerRange]++] = photons[i];
+            }
+        }
+    });
 }
+
+namespace {
+
+// The items of `from` that `keep` accepts, in order, into `to`: counted block by block over the
+// cores, then copied there.
+template <class T, class Keep>
+void parallelFilter(const T* from, size_t count, std::vector<T>& to, const Keep& keep) {
+    constexpr size_t kBlock = 8192;
+    std::vector<size_t> first((count + kBlock - 1) / kBlock + 1, 0);
+    parallelFor(count, kBlock, [&](size_t begin, size_t end) {
+        size_t kept = 0;
+        for (size_t i = begin; i < end; ++i) kept += keep(from[i]) ? 1 : 0;
+        first[begin / kBlock + 1] = kept;
+    });
+    for (size_t b = 1; b < first.size(); ++b) first[b] += first[b - 1];
+    to.resize(first.back());
+    parallelFor(count, kBlock, [&](size_t begin, size_t end) {
+        size_t at = first[begin / kBlock];
+        for (size_t i = begin; i < end; ++i)
+            if (keep(from[i])) to[at++] = from[i];
+    });
+}
+
+}  // namespace
 
 PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options, double sppPerPass)
     : m_session(session), m_options(options) {
@@ -142,22 +213,46 @@ PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options, do
                     " MiB in one buffer (32 bytes per photon slot, " + std::to_string(m_slotsPerPath) +
                     " slots per path), above the device's storage buffer range of " +
                     std::to_string(limit >> 20) + " MiB; use fewer --photons or a lower --max-depth");
-    m_slots = vk::Buffer(session.context(), slotBytes,
-                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                         "photon slots", vk::MemoryUsage::Readback);
-    m_infoBuffer = vk::Buffer(session.context(), sizeof(gpu::PhotonMapInfo), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                              "photon map info");
+    // Two sets when progressive (the next pass is shot and sorted while this one is gathered).
+    const size_t sets = m_options.progressive ? 2 : 1;
+    for (size_t i = 0; i < sets; ++i) {
+        const std::string tag = std::to_string(i);
+        m_sets[i].slots = vk::Buffer(session.context(), slotBytes,
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                     "photon slots " + tag, vk::MemoryUsage::Readback);
+        m_sets[i].infoBuffer = vk::Buffer(session.context(), sizeof(gpu::PhotonMapInfo),
+                                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photon map info " + tag);
+    }
     m_surfaceArea = surfaceArea(session.scene().scene());
     m_info.kernel = options.kernel;
     m_info.gatherRays = options.gatherRays;
     m_info.gatherDirect = options.gatherDirect ? 1u : 0u;
     m_info.maxLookup = options.maxLookup;
+    // A pass's gathers against its shoot, for IfLikelyGathered: a camera sample traces about
+    // 1 + gather-rays paths as long as a photon path, doubled for direct light and PMC-HI
+    // (measured on lavapipe: 4.8 shoots for pm's pass on cornell-glass; more than 8 for
+    // pm-pmc's first iteration).
+    m_gatherShoots = 2.0 * (1.0 + double(m_options.gatherRays)) * double(session.film().pixelCount()) * sppPerPass /
+                     double(m_options.photonsPerPass);
+    // Taken now, so that the render's warm-up creates it off the clock (startClock).
+    m_shootKernel = &session.kernel(lightsKernelVariant(session.scene(), "methods/pm/photon_shoot"));
+    m_shootCounters = Film::makeCounters(session.context(), "photon shoot counters");
+    m_shootWork = std::make_unique<vk::DescriptorSet>(session.layout(), vk::DescriptorSet::Kind::Work, "photon shoot work");
+    for (uint32_t b = 0; b < gpu::WORK_BINDING_COUNT; ++b) m_shootWork->bind(b, session.placeholder());
+    m_shootWork->bind(gpu::PT_BINDING_FILM, session.film().pixels());
+    m_shootWork->bind(gpu::PT_BINDING_COUNTERS, m_shootCounters);
+    m_shootBatch = std::make_unique<vk::CommandBatch>(session.layout(), &session.timer());
 }
 
-void PhotonMap::shoot(uint32_t pass) {
-    const auto start = std::chrono::steady_clock::now();
+PhotonMap::~PhotonMap() {
+    if (m_build.valid()) m_build.wait();
+    if (m_shootBatch) m_shootBatch->wait();
+}
+
+void PhotonMap::submitShoot(uint32_t pass) {
+    m_shootStart = std::chrono::steady_clock::now();
     const GpuScene& scene = m_session.scene();
-    const vk::Kernel& kernel = m_session.kernel(lightsKernelVariant(scene, "methods/pm/photon_shoot"));
+    const vk::Kernel& kernel = *m_shootKernel;
     const RenderSettings& settings = m_session.settings();
     gpu::PhotonShootPush push{};
     push.seed = m_options.photonSeed >= 0 ? uint32_t(m_options.photonSeed) : settings.seed;
@@ -166,39 +261,67 @@ void PhotonMap::shoot(uint32_t pass) {
     push.maxDepth = settings.maxDepth;
     push.rrDepth = settings.rrDepth;
     push.pathScale = 1.0f / float(m_options.photonsPerPass);
+    // (The set's slots were last read by the host's sort of pass - 2, finished.)
+    m_shootWork->bind(gpu::PM_BINDING_SLOTS, m_sets[setOf(pass)].slots);
     // Dispatches of at most 64k paths, one path per invocation.
     constexpr uint32_t kPathsPerDispatch = 65536;
-    vk::CommandBatch batch(m_session.layout(), &m_session.timer());
-    batch.fill(m_session.film().counters(), 0);
+    vk::CommandBatch& batch = *m_shootBatch;
+    batch.fill(m_shootCounters, 0);
     batch.bind(scene.descriptorSet());
-    batch.bind(*m_work);
+    batch.bind(*m_shootWork);
     for (uint32_t offset = 0; offset < m_options.photonsPerPass; offset += kPathsPerDispatch) {
         push.pathOffset = offset;
         push.pathCount = std::min(kPathsPerDispatch, m_options.photonsPerPass - offset);
         batch.dispatch(kernel, push, push.pathCount);
     }
-    batch.submitAndWait();
-    m_session.film().addCounters(m_session.counters());
-    m_shootSeconds += secondsSince(start);
+    batch.submit();
+    m_shootPending = pass;
+}
+
+void PhotonMap::waitShoot() {
+    if (m_shootPending == UINT32_MAX) return;
+    m_shootBatch->wait();
+    Film::addCounters(m_shootCounters, m_session.counters());
+    m_shootSeconds += secondsSince(m_shootStart);
     m_passesShot += 1;
+    m_shot = m_shootPending;
+    m_shootPending = UINT32_MAX;
 }
 
 void PhotonMap::build(uint32_t pass) {
     const auto start = std::chrono::steady_clock::now();
-    // The stored photons in path order.
+    PassSet& set = m_sets[setOf(pass)];
+    // The stored photons in path order (a path's stored slots come first).
     const size_t slots = size_t(m_options.photonsPerPass) * m_slotsPerPath;
-    const auto* slot = static_cast<const gpu::Photon*>(m_slots.mapped());
+    const auto* slot = static_cast<const gpu::Photon*>(set.slots.mapped());
     std::vector<gpu::Photon> downloaded;
-    if (!slot) {
-        downloaded = m_slots.download<gpu::Photon>(slots);
+    if (!slot) {  // (never: the slots are host-visible, so a sort on its own thread submits nothing)
+        downloaded = set.slots.download<gpu::Photon>(slots);
         slot = downloaded.data();
     }
-    m_photons.clear();
-    for (size_t path = 0; path < m_options.photonsPerPass; ++path) {
-        const gpu::Photon* p = slot + path * m_slotsPerPath;
-        for (uint32_t k = 0; k < m_slotsPerPath && (p[k].flags & gpu::PHOTON_STORED); ++k) m_photons.push_back(p[k]);
-    }
-    m_photonsStored += m_photons.size();
+    // (A path's photons are its slots up to the first one not stored: the slots after it may
+    // hold an earlier pass's photons.)
+    const uint32_t slotsPerPath = m_slotsPerPath;
+    auto storedOf = [slot, slotsPerPath](size_t path) {
+        const gpu::Photon* p = slot + path * slotsPerPath;
+        uint32_t k = 0;
+        while (k < slotsPerPath && (p[k].flags & gpu::PHOTON_STORED)) ++k;
+        return k;
+    };
+    constexpr size_t kPathBlock = 4096;
+    const size_t paths = m_options.photonsPerPass;
+    std::vector<size_t> first((paths + kPathBlock - 1) / kPathBlock + 1, 0);
+    parallelFor(paths, kPathBlock, [&](size_t begin, size_t end) {
+        size_t stored = 0;
+        for (size_t path = begin; path < end; ++path) stored += storedOf(path);
+        first[begin / kPathBlock + 1] = stored;
+    });
+    for (size_t b = 1; b < first.size(); ++b) first[b] += first[b - 1];
+    set.photons.resize(first.back());
+    parallelFor(paths, kPathBlock, [&](size_t begin, size_t end) {
+        gpu::Photon* to = set.photons.data() + first[begin / kPathBlock];
+        for (size_t path = begin; path < end; ++path) to = std::copy_n(slot + path * slotsPerPath, storedOf(path), to);
+    });
     if (m_r0 == 0.0) {
         // Automatic: the radius whose disc would hold photonsPerDisc of the first pass's photons
         // spread evenly over the scene's surface, but at most kFootprintPixels pixels' footprint
@@ -206,7 +329,7 @@ void PhotonMap::build(uint32_t pass) {
         constexpr double kFootprintPixels = 1.0;
         const gpu::SceneInfo& info = m_session.scene().info();
         const double spread = std::sqrt(m_options.photonsPerDisc * m_surfaceArea /
-                                        (glm::pi<double>() * std::max<double>(1.0, double(m_photons.size()))));
+                                        (glm::pi<double>() * std::max<double>(1.0, double(set.photons.size()))));
         const double distance = glm::length(glm::dvec3(info.sceneCenter) - glm::dvec3(info.cameraPosition));
         const double footprint = kFootprintPixels * distance * 2.0 * info.tanHalfFovY / double(info.height);
         m_r0 = m_options.radius > 0.0 ? m_options.radius : std::min(spread, footprint > 0.0 ? footprint : spread);
@@ -215,68 +338,134 @@ void PhotonMap::build(uint32_t pass) {
     const float radius = float(photonPassRadius(m_r0, pass, m_options.progressive, m_options.alpha));
     // The global grid (every photon), then the caustic grid (the caustic photons again), in one
     // photon buffer and one cells buffer (photon_types.h PhotonMapInfo).
-    m_caustics.clear();
-    for (const gpu::Photon& p : m_photons)
-        if (p.flags & gpu::PHOTON_CAUSTIC) m_caustics.push_back(p);
-    const uint32_t hashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(m_photons.size())));
-    const uint32_t causticHashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(m_caustics.size())));
-    std::vector<gpu::Photon> sortedCaustics;
+    std::vector<gpu::Photon> caustics, sortedCaustics;
+    parallelFilter(set.photons.data(), set.photons.size(), caustics,
+                   [](const gpu::Photon& p) { return (p.flags & gpu::PHOTON_CAUSTIC) != 0; });
+    const uint32_t hashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(set.photons.size())));
+    const uint32_t causticHashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(caustics.size())));
     std::vector<glm::uvec2> causticCells;
-    buildPhotonGrid(m_photons, 2.0f * radius, hashSize, m_sorted, m_cellData);
-    buildPhotonGrid(m_caustics, 2.0f * radius, causticHashSize, sortedCaustics, causticCells);
-    for (glm::uvec2& cell : causticCells) cell.x += uint32_t(m_sorted.size());
-    m_sorted.insert(m_sorted.end(), sortedCaustics.begin(), sortedCaustics.end());
-    m_cellData.insert(m_cellData.end(), causticCells.begin(), causticCells.end());
-    const VkDeviceSize photonBytes = std::max<VkDeviceSize>(16, m_sorted.size() * sizeof(gpu::Photon));
-    if (!m_photonBuffer.valid() || m_photonBuffer.size() < photonBytes) {
-        m_photonBuffer = vk::Buffer(m_session.context(), photonBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photons");
-        m_work->bind(gpu::PM_BINDING_PHOTONS, m_photonBuffer);
-    }
-    const VkDeviceSize cellBytes = m_cellData.size() * sizeof(glm::uvec2);
-    if (!m_cells.valid() || m_cells.size() < cellBytes) {
-        m_cells = vk::Buffer(m_session.context(), cellBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photon grid");
-        m_work->bind(gpu::PM_BINDING_CELLS, m_cells);
-    }
-    m_cells.upload(m_cellData);
-    if (!m_sorted.empty()) m_photonBuffer.upload(m_sorted);
-    m_info.radius = radius;
-    m_info.cellSize = 2.0f * radius;
-    m_info.hashMask = hashSize - 1;
-    m_info.photonCount = uint32_t(m_photons.size());
-    m_info.causticCount = uint32_t(m_caustics.size());
-    m_info.causticHashMask = causticHashSize - 1;
-    m_info.causticCellOffset = hashSize;
-    m_infoBuffer.upload(&m_info, sizeof(m_info));
+    buildPhotonGrid(set.photons, 2.0f * radius, hashSize, set.sorted, set.cellData);
+    buildPhotonGrid(caustics, 2.0f * radius, causticHashSize, sortedCaustics, causticCells);
+    for (glm::uvec2& cell : causticCells) cell.x += uint32_t(set.sorted.size());
+    set.sorted.insert(set.sorted.end(), sortedCaustics.begin(), sortedCaustics.end());
+    set.cellData.insert(set.cellData.end(), causticCells.begin(), causticCells.end());
+    set.info = gpu::PhotonMapInfo{};
+    set.info.kernel = m_options.kernel;
+    set.info.gatherRays = m_options.gatherRays;
+    set.info.gatherDirect = m_options.gatherDirect ? 1u : 0u;
+    set.info.maxLookup = m_options.maxLookup;
+    set.info.radius = radius;
+    set.info.cellSize = 2.0f * radius;
+    set.info.hashMask = hashSize - 1;
+    set.info.photonCount = uint32_t(set.photons.size());
+    set.info.causticCount = uint32_t(caustics.size());
+    set.info.causticHashMask = causticHashSize - 1;
+    set.info.causticCellOffset = hashSize;
+    set.builtPass = pass;
     m_buildSeconds += secondsSince(start);
 }
 
-void PhotonMap::preparePass(uint32_t pass, vk::DescriptorSet& work) {
-    if (m_work != &work) {
-        m_work = &work;
-        work.bind(gpu::PM_BINDING_SLOTS, m_slots);
-        work.bind(gpu::PM_BINDING_INFO, m_infoBuffer);
-        if (m_photonBuffer.valid()) work.bind(gpu::PM_BINDING_PHOTONS, m_photonBuffer);
-        if (m_cells.valid()) work.bind(gpu::PM_BINDING_CELLS, m_cells);
-    }
-    if (m_passesShot > 0 && !m_options.progressive) return;
-    shoot(pass);
-    build(pass);
+void PhotonMap::joinBuild() {
+    if (!m_build.valid()) return;
+    const auto start = std::chrono::steady_clock::now();
+    m_build.get();  // rethrows what the sort threw
+    m_buildWaitSeconds += secondsSince(start);
+    m_building = UINT32_MAX;
 }
 
-void PhotonMap::bindPass(vk::DescriptorSet& work) const {
-    work.bind(gpu::PM_BINDING_SLOTS, m_slots);
-    work.bind(gpu::PM_BINDING_INFO, m_infoBuffer);
-    if (m_photonBuffer.valid()) work.bind(gpu::PM_BINDING_PHOTONS, m_photonBuffer);
-    if (m_cells.valid()) work.bind(gpu::PM_BINDING_CELLS, m_cells);
+void PhotonMap::upload(PassSet& set) {
+    const VkDeviceSize photonBytes = std::max<VkDeviceSize>(16, set.sorted.size() * sizeof(gpu::Photon));
+    if (!set.photonBuffer.valid() || set.photonBuffer.size() < photonBytes)
+        set.photonBuffer = vk::Buffer(m_session.context(), photonBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photons");
+    const VkDeviceSize cellBytes = set.cellData.size() * sizeof(glm::uvec2);
+    if (!set.cells.valid() || set.cells.size() < cellBytes)
+        set.cells = vk::Buffer(m_session.context(), cellBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "photon grid");
+    set.cells.upload(set.cellData);
+    if (!set.sorted.empty()) set.photonBuffer.upload(set.sorted);
+    set.infoBuffer.upload(&set.info, sizeof(set.info));
 }
+
+void PhotonMap::preparePass(uint32_t pass, Next next) {
+    const bool shootNext = next == Next::Yes && m_options.progressive;
+    if (m_passesPrepared > 0 && !m_options.progressive) {  // one map for every pass
+        m_passesPrepared += 1;
+        return;
+    }
+    PassSet& set = m_sets[setOf(pass)];
+    if (m_building == pass) joinBuild();
+    if (set.builtPass != pass) {
+        // Not shot ahead (the first pass, or a caller that does not overlap): shoot it now, and
+        // while the host sorts it, the device shoots the next one.
+        if (m_shootPending != pass && m_shot != pass) {
+            waitShoot();
+            submitShoot(pass);
+        }
+        const double shootStart = m_shootSeconds;
+        waitShoot();
+        const double shootSeconds = m_shootSeconds - shootStart;
+        const double limit = m_session.settings().timeLimit;
+        // IfLikelyGathered: this pass's gathers guessed at m_gatherShoots shoots, the next
+        // shoot itself at one.
+        if (shootNext || (next == Next::IfLikelyGathered && m_options.progressive &&
+                          (limit <= 0.0 ||
+                           m_session.elapsedSeconds() + (1.0 + m_gatherShoots) * shootSeconds < limit)))
+            submitShoot(pass + 1);
+        build(pass);
+    } else if (shootNext) {
+        shootAhead(pass + 1);
+    }
+    upload(set);
+    m_info = set.info;
+    m_lastSet = setOf(pass);
+    m_photonsStored += set.photons.size();
+    m_passesPrepared += 1;
+}
+
+void PhotonMap::preparePass(uint32_t pass, vk::DescriptorSet& work) {
+    preparePass(pass, Next::No);
+    bindPass(pass, work);
+}
+
+void PhotonMap::shootAhead(uint32_t pass) {
+    if (!m_options.progressive || shotAhead(pass)) return;
+    waitShoot();
+    submitShoot(pass);
+}
+
+bool PhotonMap::shotAhead(uint32_t pass) const {
+    return m_shootPending == pass || m_shot == pass || m_building == pass || m_sets[setOf(pass)].builtPass == pass;
+}
+
+void PhotonMap::buildNextInBackground() {
+    if (m_shootPending == UINT32_MAX || m_build.valid()) return;
+    waitShoot();
+    const uint32_t pass = m_shot;
+    m_building = pass;
+    m_build = std::async(std::launch::async, [this, pass] { build(pass); });
+}
+
+void PhotonMap::bindPass(uint32_t pass, vk::DescriptorSet& work) const {
+    const PassSet& set = m_sets[setOf(pass)];
+    work.bind(gpu::PM_BINDING_SLOTS, set.slots);
+    work.bind(gpu::PM_BINDING_INFO, set.infoBuffer);
+    if (set.photonBuffer.valid()) work.bind(gpu::PM_BINDING_PHOTONS, set.photonBuffer);
+    if (set.cells.valid()) work.bind(gpu::PM_BINDING_CELLS, set.cells);
+}
+
+const std::vector<gpu::Photon>& PhotonMap::photons() const { return m_sets[m_lastSet].photons; }
 
 nlohmann::json PhotonMap::stats() {
+    // A pass shot or sorted ahead and never gathered (the clock ran out): its device work
+    // (queued before the last gathers, so done) and its host seconds join the totals.
+    waitShoot();
+    if (m_build.valid()) m_build.wait();
     const Counters& c = m_session.counters();
     nlohmann::json j;
-    j["photon_passes"] = m_passesShot;
+    j["photon_passes"] = m_passesPrepared;
+    j["photon_passes_shot"] = m_passesShot;
     j["photon_paths_per_pass"] = m_options.photonsPerPass;
     j["photons_stored"] = m_photonsStored;
-    j["photons_per_pass"] = m_passesShot ? double(m_photonsStored) / m_passesShot : 0.0;
+    j["photons_per_pass"] = m_passesPrepared ? double(m_photonsStored) / m_passesPrepared : 0.0;
     j["caustic_photons_last_pass"] = m_info.causticCount;
     j["radius_initial"] = m_r0;
     j["radius_final"] = m_info.radius;
@@ -285,6 +474,7 @@ nlohmann::json PhotonMap::stats() {
     j["gather_direct"] = m_options.gatherDirect;
     j["photon_shoot_seconds"] = m_shootSeconds;
     j["photon_build_seconds"] = m_buildSeconds;
+    j["photon_build_wait_seconds"] = m_buildWaitSeconds;
     j["photon_paths_out_of_slots"] = c.values[gpu::COUNTER_PM_SLOTS_FULL];
     j["lookups"] = c.values[gpu::COUNTER_PM_LOOKUPS];
     j["lookups_strided"] = c.values[gpu::COUNTER_PM_LOOKUP_CUT];

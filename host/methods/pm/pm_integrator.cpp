@@ -1,10 +1,14 @@
 #include "methods/pm/pm_integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <limits>
+#include <memory>
+#include <string>
 
 #include "core/error.h"
+#include "render/film.h"
 #include "methods/pt/pt_integrator.h"
 #include "vk/command_batch.h"
 
@@ -28,14 +32,16 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     const vk::Kernel& kernel = session.kernel(photonGatherKernel(session.scene(), false));
     Film& film = session.film();
-    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pm work");
-    bindTileWork(work, film, session);
     PhotonMap map(session, m_photons, double(m_sppPerPass));
 
     const uint32_t pixels = film.pixelCount();
     const uint32_t spp = settings.spp > 0 ? settings.spp
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
+    // The photon passes the camera samples need (unbounded under --time alone).
+    const uint32_t passes = spp == std::numeric_limits<uint32_t>::max()
+                                ? std::numeric_limits<uint32_t>::max()
+                                : (spp + m_sppPerPass - 1) / m_sppPerPass;
     DispatchSizer sizer(std::min<uint32_t>(pixels, 4096), pixels, session.targetDispatchSeconds());
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_TILE;
@@ -47,50 +53,120 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
     push.lightSamples = m_lightSamples;
     push.itemsPerInvocation = 1;
 
-    vk::CommandBatch batch(session.layout(), &session.timer());
-    uint32_t sample = 0;  // camera samples per pixel completed
+    // Two gather batches in flight (issue 38), each with its own counters and work set (bound
+    // to its pass's photon map): while the device gathers one, the host records the next.
+    // Batches run in submission order (each begins with a barrier on the ones before), so the
+    // film's sums are the same as one batch at a time.
+    struct GatherSlot {
+        vk::Buffer counters;
+        std::unique_ptr<vk::DescriptorSet> work;
+        std::unique_ptr<vk::CommandBatch> batch;
+        uint64_t samples = 0;
+        uint32_t dispatches = 0;
+        std::chrono::steady_clock::time_point submitted;
+        bool pending = false;
+    };
+    std::array<GatherSlot, 2> slots;
+    for (size_t i = 0; i < slots.size(); ++i) {
+        GatherSlot& slot = slots[i];
+        const std::string tag = std::to_string(i);
+        slot.counters = Film::makeCounters(session.context(), "pm counters " + tag);
+        slot.work = std::make_unique<vk::DescriptorSet>(session.layout(), vk::DescriptorSet::Kind::Work, "pm work " + tag);
+        bindTileWork(*slot.work, film, session);
+        slot.work->bind(gpu::PT_BINDING_COUNTERS, slot.counters);
+        slot.batch = std::make_unique<vk::CommandBatch>(session.layout(), &session.timer());
+    }
+
+    uint32_t sample = 0;  // camera samples per pixel issued
     uint32_t offset = 0;  // next pixel of the current sample
-    uint64_t samples = 0;
+    uint64_t samples = 0;  // camera samples gathered (their batches complete)
+    const bool timed = settings.timeLimit > 0.0;
+    uint64_t passSamplesLeft = 0;  // of the current pass, not yet issued
+    double gatherSeconds = 0.0;    // the device's, over the samples gathered
+    auto lastDone = std::chrono::steady_clock::now();
+    // A completed batch: its counters and samples join the totals, the sizer learns its time
+    // on the device (timestamps; else from when it could start).
+    auto finishBatch = [&](GatherSlot& slot) {
+        if (!slot.pending) return;
+        slot.batch->wait();
+        slot.pending = false;
+        const auto now = std::chrono::steady_clock::now();
+        const double seconds = slot.batch->lastDeviceSeconds() > 0.0
+                                   ? slot.batch->lastDeviceSeconds()
+                                   : std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
+        lastDone = now;
+        sizer.record(slot.samples / slot.dispatches, seconds / slot.dispatches);
+        gatherSeconds += seconds;
+        Film::addCounters(slot.counters, session.counters());
+        samples += slot.samples;
+        session.updateSppProgress(samples, double(spp));
+    };
+    // The film once every batch in flight is in (oldest first).
+    auto resolve = [&](GatherSlot& older, GatherSlot& newer) {
+        finishBatch(older);
+        finishBatch(newer);
+        return resolveAverage(film.download(), film.width(), film.height());
+    };
+
     session.startClock();
-    while (sample < spp && !session.shouldStop()) {
-        if (offset == 0 && sample % m_sppPerPass == 0) map.preparePass(sample / m_sppPerPass, work);
+    for (size_t turn = 0; sample < spp && !session.shouldStop(); ++turn) {
+        GatherSlot& slot = slots[turn % 2];
+        GatherSlot& other = slots[(turn + 1) % 2];
+        finishBatch(slot);  // (the other, newer batch goes on running)
+        session.snapshotIfDue(samples, [&] { return resolve(slot, other); });
+        // A new photon pass: its map was shot and sorted while the passes before it were
+        // gathered; the next one is shot now, ahead of this pass's gathers. (No batch in
+        // flight reads pass - 2's map: the one in flight is of pass - 1 at the oldest.)
+        const uint32_t pass = sample / m_sppPerPass;
+        const bool passStart = offset == 0 && sample % m_sppPerPass == 0;
+        if (passStart) {
+            map.preparePass(pass, pass + 1 >= passes ? PhotonMap::Next::No
+                                  : timed             ? PhotonMap::Next::IfLikelyGathered
+                                                      : PhotonMap::Next::Yes);
+            passSamplesLeft = uint64_t(std::min(m_sppPerPass, spp - sample)) * pixels;
+        }
+        // Under --time, the next pass is shot once this one's gathers look like ending before
+        // the clock does (from the device's seconds per sample so far): a pass shot and never
+        // gathered would cost the device its shoot and add nothing to the image.
+        if (timed && pass + 1 < passes && !map.shotAhead(pass + 1) && samples > 0 &&
+            session.elapsedSeconds() + double(passSamplesLeft) * gatherSeconds / double(samples) <
+                settings.timeLimit)
+            map.shootAhead(pass + 1);
+        map.bindPass(pass, *slot.work);
         // One batch: dispatches over the pixels of this camera sample, about targetBatchSeconds.
-        const auto batchStart = std::chrono::steady_clock::now();
-        batch.fill(film.counters(), 0);
+        vk::CommandBatch& batch = *slot.batch;
+        batch.fill(slot.counters, 0);
         batch.bind(session.scene().descriptorSet());
-        batch.bind(work);
+        batch.bind(*slot.work);
         const double dispatchesPerBatch =
             std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds());
-        uint64_t batchSamples = 0;
+        slot.samples = 0;
         for (int d = 0; d < int(dispatchesPerBatch) && offset < pixels; ++d) {
             const uint32_t count = std::min(sizer.units(), pixels - offset);
             push.pixelOffset = offset;
             push.invocationCount = count;
             push.sampleBase = sample;
             batch.dispatch(kernel, push, count);
-            batchSamples += count;
+            slot.samples += count;
             offset += count;
         }
-        batch.submitAndWait();
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count();
-        const uint32_t dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
-        sizer.record(batchSamples / dispatches, seconds / dispatches);
-        film.addCounters(session.counters());
-        samples += batchSamples;
+        passSamplesLeft -= slot.samples;
+        slot.dispatches = std::max<uint32_t>(batch.dispatchCount(), 1);
+        slot.submitted = std::chrono::steady_clock::now();
+        batch.submit();
+        slot.pending = true;
+        // The next pass's photons, queued ahead of this batch, are sorted while it runs.
+        map.buildNextInBackground();
         if (offset == pixels) {
             offset = 0;
             sample += 1;
         }
-        session.updateSppProgress(samples, double(spp));
-        session.snapshotIfDue(samples, [&] {
-            return resolveAverage(film.download(), film.width(), film.height());
-        });
     }
-    session.progress().finish();
-
+    // Stopped or done: the batches in flight, oldest first, join the image.
+    const bool firstIsOlder = !slots[1].pending || (slots[0].pending && slots[0].submitted <= slots[1].submitted);
     RenderOutput out;
-    out.image = resolveAverage(film.download(), film.width(), film.height());
+    out.image = firstIsOlder ? resolve(slots[0], slots[1]) : resolve(slots[1], slots[0]);
+    session.progress().finish();
     out.cameraSamples = samples;
     out.samplesPerPixel = double(samples) / double(pixels);
     out.methodStats = map.stats();

@@ -237,8 +237,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // still depend on no sample of their own pixel (image_plane_sampler.h), so the estimator
     // stays unbiased. PMC-HI's feedback (pmc-ip-hi) is taken at the cut too, from the final
     // weights of the requests reduced by then: it only seeds each estimate's mixture, which
-    // any start leaves unbiased. The photon passes of pm-pmc need the whole iteration: no
-    // overlap there, nor across MPI ranks (whose collectives run at iteration boundaries).
+    // any start leaves unbiased. pm-pmc's photon pass for iteration t + 1 is prepared at the
+    // cut too: it was shot and sorted while t was traced, and goes to the buffers of t - 1's,
+    // whose batches are all in (photon_map.h). No overlap across MPI ranks (whose collectives
+    // run at iteration boundaries).
     struct Iteration {
         uint64_t number = 0;
         std::vector<uint32_t> counts, start;
@@ -247,7 +249,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         uint32_t next = 0, index = 0;  // the next request: position in pixelOrder, sample
     };
     std::deque<Iteration> open;
-    const bool overlap = !photonMap && !comm.distributed();
+    const bool overlap = !comm.distributed();
     bool done = false;          // no iteration after the last one allocated
     uint64_t allocations = 0;   // iterations allocated
     uint64_t issued = 0, reduced = 0, allocatedEnd = 0;
@@ -287,10 +289,13 @@ RenderOutput PmcIp::render(RenderSession& session) {
             done = true;
             return;
         }
-        if (photonMap) {  // (every batch of the iteration before has finished)
-            photonMap->preparePass(uint32_t(number), *slots[0].work);
-            photonMap->bindPass(*slots[1].work);
-        }
+        // The iteration's photon pass, shot and sorted while the iteration before it was traced
+        // (photon_map.h), and the next one shot now. (No batch of iteration number - 2, which
+        // read the buffers this pass goes to, is in flight.)
+        if (photonMap)
+            photonMap->preparePass(uint32_t(number), number + 1 >= totalIterations ? PhotonMap::Next::No
+                                                     : settings.timeLimit > 0.0   ? PhotonMap::Next::IfLikelyGathered
+                                                                                  : PhotonMap::Next::Yes);
         const auto adaptStart = std::chrono::steady_clock::now();
         // The last iteration of a --spp budget takes only what is left of it.
         // (None once it is spent: a rank whose share ends sooner still joins the iterations.)
@@ -338,6 +343,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // request order (the same seed gives the same sums), and the sizer learns from its time on
     // the device (from when it could start: submitted, and the batch before it done).
     auto lastDone = std::chrono::steady_clock::now();
+    double requestSeconds = 0.0;  // the device's, over the requests reduced
     auto finishBatch = [&](BatchSlot& slot) {
         if (!slot.pending) return;
         slot.batch->wait();
@@ -350,6 +356,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
         lastDone = now;
         const uint32_t n = uint32_t(slot.list.size());
         sizer.record(n / slot.dispatches, seconds / slot.dispatches);
+        requestSeconds += seconds;
         Film::addCounters(slot.counters, session.counters());
         const auto reduceStart = std::chrono::steady_clock::now();
         double settleSeconds = 0.0;  // adapting, counted apart
@@ -442,8 +449,17 @@ RenderOutput PmcIp::render(RenderSession& session) {
             }
             break;
         }
+        // pm-pmc under --time: the next iteration's photons are shot once this one looks like
+        // ending before the clock (from the device's seconds per request so far); a pass shot
+        // and never gathered would cost the device its shoot.
+        if (photonMap && settings.timeLimit > 0.0 && !done && allocations < totalIterations &&
+            !photonMap->shotAhead(uint32_t(allocations)) && reduced > 0 &&
+            session.elapsedSeconds() + double(allocatedEnd - reduced) * requestSeconds / double(reduced) <
+                settings.timeLimit)
+            photonMap->shootAhead(uint32_t(allocations));
         slot.requests.upload(slot.list);
         if (pmcHi) slot.work->bind(gpu::PMC_HI_BINDING_ALPHA_START, alphaStart[slot.iteration % 2]);
+        if (photonMap) photonMap->bindPass(uint32_t(slot.iteration), *slot.work);
         vk::CommandBatch& batch = *slot.batch;
         batch.fill(slot.counters, 0);
         batch.bind(session.scene().descriptorSet());
@@ -469,6 +485,8 @@ RenderOutput PmcIp::render(RenderSession& session) {
         slot.sequence = sequence++;
         batch.submit();
         slot.pending = true;
+        // The next photon pass, queued ahead of this batch, is sorted while it runs.
+        if (photonMap) photonMap->buildNextInBackground();
         // While it runs: the batch before it.
         finishBatch(other);
     }
