@@ -44,6 +44,9 @@ MltOptions MltOptions::fromSettings(const RenderSettings& s) {
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
+    const int together = s.optionInt("passes-per-batch", 0);
+    if (together < 0 || together > 1024) throw Error("--passes-per-batch: expected 0..1024 (0 = from the device)");
+    o.passesPerBatch = uint32_t(together);
     const std::string direct = s.optionString("direct", "separate");
     if (direct != "separate" && direct != "chains")
         throw Error("--direct: expected separate or chains, got '" + direct + "'");
@@ -64,6 +67,15 @@ RenderOutput Mlt::render(RenderSession& session) {
     const uint32_t chainCount = o.chains > 0 ? o.chains : defaultChains(pixels, context.isCpuDevice());
     // Mutations per chain per pass: about one mutation per pixel in all.
     const uint32_t stepsPerPass = std::max<uint32_t>(1, uint32_t(std::lround(double(pixels) / chainCount)));
+    // Passes run together (issue 38): on a GPU a pass of one step per chain lasts about a
+    // millisecond, and the device would wait for the host between passes. The chains carry
+    // their random numbers between submissions and the splat film sums integer quanta, so the
+    // image is the same bits for any count (MltTest.PassesRunTogetherSameImage).
+    const uint64_t stepsEachPass = uint64_t(chainCount) * stepsPerPass;
+    const uint32_t together =
+        o.passesPerBatch > 0 ? o.passesPerBatch
+        : context.isCpuDevice() ? 1u
+                                : uint32_t(std::clamp<uint64_t>(((uint64_t(1) << 20) + stepsEachPass - 1) / stepsEachPass, 1, 64));
     const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
     if (bootstrapSamples > (uint64_t(1) << 28)) throw Error("mlt: --bootstrap too large for this image (2^28 samples at most)");
 
@@ -174,43 +186,70 @@ RenderOutput Mlt::render(RenderSession& session) {
         push.flags = 0;
         DispatchSizer sizer(1024, chainCount, session.targetDispatchSeconds());
         PassClock clock(session);
-        for (uint32_t pass = 0; pass < passes && clock.startPass(); ++pass) {
-            if (o.separateDirect) {
-                batches.begin();
-                batch.bind(directWork);
-                directPush.sampleBase = pass;
-                batch.dispatch(directKernel, directPush,
-                               (pixels + directPush.itemsPerInvocation - 1) / directPush.itemsPerInvocation);
-                batches.submit();
-                ++directPasses;
-            }
+        for (uint32_t pass = 0; pass < passes && clock.startPass();) {
+            const uint32_t count = std::min(together, passes - pass);
             bool interrupted = false;
-            for (uint32_t done = 0; chainsRun && done < stepsPerPass && !interrupted;) {
-                push.steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
-                for (uint32_t c = 0; c < chainCount;) {
+            if (count == 1) {
+                if (o.separateDirect) {
                     batches.begin();
-                    batch.bind(work);
-                    push.chainBase = c;
-                    push.chainCount = std::min(sizer.units(), chainCount - c);
-                    const auto t0 = std::chrono::steady_clock::now();
-                    batch.dispatch(chainKernel, push, push.chainCount);
+                    batch.bind(directWork);
+                    directPush.sampleBase = pass;
+                    batch.dispatch(directKernel, directPush,
+                                   (pixels + directPush.itemsPerInvocation - 1) / directPush.itemsPerInvocation);
                     batches.submit();
-                    chainSteps += uint64_t(push.chainCount) * push.steps;
-                    sizer.record(push.chainCount,
-                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-                    c += push.chainCount;
                 }
-                done += push.steps;
+                for (uint32_t done = 0; chainsRun && done < stepsPerPass && !interrupted;) {
+                    push.steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
+                    for (uint32_t c = 0; c < chainCount;) {
+                        batches.begin();
+                        batch.bind(work);
+                        push.chainBase = c;
+                        push.chainCount = std::min(sizer.units(), chainCount - c);
+                        const auto t0 = std::chrono::steady_clock::now();
+                        batch.dispatch(chainKernel, push, push.chainCount);
+                        batches.submit();
+                        chainSteps += uint64_t(push.chainCount) * push.steps;
+                        sizer.record(push.chainCount,
+                                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+                        c += push.chainCount;
+                    }
+                    done += push.steps;
+                    interrupted = clock.abandon();
+                }
+            } else {
+                // `count` passes in one submission: their direct passes, then all their steps,
+                // every chain in each dispatch.
+                batches.begin();
+                if (o.separateDirect) {
+                    batch.bind(directWork);
+                    for (uint32_t p = pass; p < pass + count; ++p) {
+                        directPush.sampleBase = p;
+                        batch.dispatch(directKernel, directPush,
+                                       (pixels + directPush.itemsPerInvocation - 1) / directPush.itemsPerInvocation);
+                    }
+                }
+                batch.bind(work);
+                push.chainBase = 0;
+                push.chainCount = chainCount;
+                for (uint32_t done = 0; chainsRun && done < count * stepsPerPass;) {
+                    push.steps = std::min(o.stepsPerDispatch, count * stepsPerPass - done);
+                    batch.dispatch(chainKernel, push, push.chainCount);
+                    chainSteps += uint64_t(push.chainCount) * push.steps;
+                    done += push.steps;
+                }
+                batches.submit();
                 interrupted = clock.abandon();
             }
+            if (o.separateDirect) directPasses += count;
             if (interrupted) break;  // a partial pass would be a darker, biased image
-            splat.completePass();
+            splat.completePass(count);
             clock.passDone();
+            pass += count;
             session.snapshotIfDue(uint64_t(splat.completedPasses()) * pixels, resolve);
             session.progress().update(passes != std::numeric_limits<uint32_t>::max()
-                                          ? double(pass + 1) / double(passes)
+                                          ? double(pass) / double(passes)
                                           : session.elapsedSeconds() / settings.timeLimit,
-                                      double(pass + 1), "passes");
+                                      double(pass), "passes");
         }
     }
     session.progress().finish();
@@ -244,6 +283,7 @@ RenderOutput Mlt::render(RenderSession& session) {
         {"deposit_energy", depositEnergy},
         {"chains", chainCount},
         {"steps_per_pass", stepsPerPass},
+        {"passes_per_batch", together},
         {"mutations_per_pixel", double(done) * chainCount * stepsPerPass / pixels},
         {"chain_steps", chainSteps},
         {"large_step", o.largeStep},
@@ -265,6 +305,7 @@ MethodInfo mltMethod() {
     for (const MethodOption& o : PerturbationOptions::help()) options.push_back(o);
     options.push_back({"direct", "separate", "separate: the emitter seen directly and direct light at the first hit by path tracing (1 spp per pass), the chains take the rest; chains: the chains take every path"});
     options.push_back({"steps-per-dispatch", "4", "mutations per chain per dispatch"});
+    options.push_back({"passes-per-batch", "0", "passes whose steps run in one submission (0: 1 on a CPU device, enough to fill a GPU)"});
     return {"mlt", "Metropolis light transport: ERPT's lens and caustic perturbations plus independent mutations",
             true, options, [](const RenderSettings& s) { return std::make_unique<Mlt>(s); }, ""};
 }

@@ -23,6 +23,8 @@ struct MltOptions {
     float largeStep = 0.25f;          // probability of the independent mutation
     PerturbationOptions perturbation;  // ERPT's, with its defaults
     uint32_t stepsPerDispatch = 4;
+    uint32_t passesPerBatch = 0;      // passes in one submission (0: 1 on a CPU device; on a GPU
+                                      // enough for 2^20 chain steps, at most 64: issue 38)
     // Paths with at most one scattering vertex (the emitter seen directly, direct light at x1)
     // by path tracing at depth 1, one sample per pixel per pass, not by the chains (Veach 1997
     // sec. 11.5: direct lighting by standard techniques; ERPT's --redistribute indirect).

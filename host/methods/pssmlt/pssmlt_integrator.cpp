@@ -39,10 +39,19 @@ PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
+    const int together = s.optionInt("passes-per-batch", 0);
+    if (together < 0 || together > 1024) throw Error("--passes-per-batch: expected 0..1024 (0 = from the device)");
+    o.passesPerBatch = uint32_t(together);
     if (s.maxDepth > gpu::PSSMLT_MAX_DEPTH)
         throw Error("--max-depth: pssmlt holds the random numbers of at most " +
                     std::to_string(gpu::PSSMLT_MAX_DEPTH) + " bounces");
     return o;
+}
+
+uint32_t PssmltOptions::defaultPassesPerBatch(bool cpuDevice, uint64_t mutationsPerPass) {
+    if (cpuDevice) return 1;
+    const uint64_t target = uint64_t(1) << 20;
+    return uint32_t(std::clamp<uint64_t>((target + mutationsPerPass - 1) / std::max<uint64_t>(mutationsPerPass, 1), 1, 64));
 }
 
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
@@ -149,24 +158,51 @@ RenderOutput Pssmlt::render(RenderSession& session) {
             c += push.count;
         }
     };
+    // Passes run together: their steps go into one submission and their deposits into the
+    // splat film together, which then completes them as that many passes. The chains and their
+    // random numbers do not know where a submission ends, and the film sums integer quanta, so
+    // the image is the same bits for any count (PssmltTest.PassesRunTogetherSameImage).
+    const uint32_t together = o.passesPerBatch > 0
+                                  ? o.passesPerBatch
+                                  : PssmltOptions::defaultPassesPerBatch(context.isCpuDevice(),
+                                                                         uint64_t(chains) * stepsPerPass);
     if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         starts.upload(start.samples);
         runChains(0, gpu::PSSMLT_FLAG_START);
         PassClock clock(session);
-        for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass(); ++pass) {
-            for (uint32_t done = 0; done < stepsPerPass;) {
-                const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
-                runChains(steps, 0);
-                mutations += uint64_t(chains) * steps;
-                done += steps;
-                if (clock.abandon()) {
-                    interrupted = true;
-                    break;
+        for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass();) {
+            const uint32_t count = std::min(together, spp - pass);
+            if (count == 1) {
+                for (uint32_t done = 0; done < stepsPerPass;) {
+                    const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
+                    runChains(steps, 0);
+                    mutations += uint64_t(chains) * steps;
+                    done += steps;
+                    if (clock.abandon()) {
+                        interrupted = true;
+                        break;
+                    }
                 }
+            } else {
+                // All of `count` passes' steps in one submission, every chain in each dispatch.
+                batches.begin();
+                batch.bind(work);
+                push.flags = 0;
+                push.first = 0;
+                push.count = chains;
+                for (uint32_t done = 0; done < count * stepsPerPass;) {
+                    push.steps = std::min(o.stepsPerDispatch, count * stepsPerPass - done);
+                    batch.dispatch(chainKernel, push, push.count);
+                    done += push.steps;
+                }
+                batches.submit();
+                mutations += uint64_t(chains) * stepsPerPass * count;
+                interrupted = clock.abandon();
             }
             if (interrupted) break;
-            completeRedistributionPass(session, splat, depositEnergy, pixels, pass, spp);
+            completeRedistributionPass(session, splat, depositEnergy, pixels, pass + count - 1, spp, count);
             clock.passDone();
+            pass += count;
         }
     }
     session.progress().finish();
@@ -186,6 +222,7 @@ RenderOutput Pssmlt::render(RenderSession& session) {
         {"normalization", normalization},  // b_hat: the image's total luminance
         {"chains", chains},
         {"steps_per_pass", stepsPerPass},  // per chain
+        {"passes_per_batch", together},
         {"dimensions", dimensions},
         {"deposit_energy", depositEnergy},
         {"mutations", mutations},
@@ -212,7 +249,8 @@ MethodInfo pssmltMethod() {
              {"chains", "0", "chains in parallel (0: one per pixel, at most 4096 on a CPU device, 65536 on a GPU)"},
              {"large-step", "0.3", "probability of a large step (every random number drawn anew)"},
              {"sigma", "0.01", "small step: standard deviation of the wrapped Gaussian offset"},
-             {"steps-per-dispatch", "4", "mutations per chain per dispatch"}},
+             {"steps-per-dispatch", "4", "mutations per chain per dispatch"},
+             {"passes-per-batch", "0", "passes whose steps run in one submission (0: 1 on a CPU device, enough to fill a GPU)"}},
             [](const RenderSettings& s) { return std::make_unique<Pssmlt>(s); }, ""};
 }
 

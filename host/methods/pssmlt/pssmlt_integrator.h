@@ -27,6 +27,7 @@ struct PssmltOptions {
     float largeStepProbability = 0.3f;   // Kelemen et al. 2002 sec. 4: p_large
     float sigma = 0.01f;                 // small step: wrapped Gaussian (pbrt-v3 MLTSampler)
     uint32_t stepsPerDispatch = 4;
+    uint32_t passesPerBatch = 0;         // passes in one submission (0: from the device)
 
     static constexpr uint32_t kMaxChains = 1u << 20;
     // Chains when --chains is 0 (at most one per pixel). On lavapipe fewer, longer chains run
@@ -34,6 +35,11 @@ struct PssmltOptions {
     // caches, and a mutation took 5.8 us there against 4.2 us with 4096 (cornell-glass 160x120);
     // a GPU needs many more invocations in flight.
     static uint32_t defaultChains(bool cpuDevice) { return cpuDevice ? 4096u : 65536u; }
+    // Passes in one submission when --passes-per-batch is 0: 1 on a CPU device (lavapipe's
+    // dispatches are sized by time instead); on a GPU enough for 2^20 mutations (issue 38: a
+    // pass of one mutation per pixel lasts about a millisecond there, and the device would wait
+    // for the host between passes), at most 64.
+    static uint32_t defaultPassesPerBatch(bool cpuDevice, uint64_t mutationsPerPass);
 
     static PssmltOptions fromSettings(const RenderSettings& settings);
 };
