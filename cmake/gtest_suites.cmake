@@ -4,7 +4,7 @@
 # Why suites and not cases: every process compiles its Vulkan kernels again (lavapipe's
 # pipeline cache keeps nothing), and the renderers' kernels take seconds each; one process per
 # suite compiles them once for all its cases and shares the test scene cache, which halves the
-# suite's time (PmcHiTest 40 s as 20 processes, 18 s as one).
+# suite's time (the 16 cases of stat.PmcHiTest: 40 s as 16 processes, 18 s as one).
 #
 # Two tiers (README "Tests"): a case whose full name (Prefix/Suite.Case/N) matches one of
 # FULL_TESTS' patterns for this binary ("LABEL:pattern", `*` any characters) runs in the entry

@@ -146,4 +146,14 @@ void DispatchSizer::record(uint64_t units, double seconds) {
     m_units = uint32_t(std::clamp(clamped, 1.0, double(m_max)));
 }
 
+double InFlightTimer::wait(vk::CommandBatch& batch, std::chrono::steady_clock::time_point submitted) {
+    batch.wait();
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = batch.lastDeviceSeconds() > 0.0
+                               ? batch.lastDeviceSeconds()
+                               : std::chrono::duration<double>(now - std::max(submitted, m_lastDone)).count();
+    m_lastDone = now;
+    return seconds;
+}
+
 }  // namespace pmcr

@@ -21,6 +21,9 @@
 #include "vk/pipeline.h"
 
 namespace pmcr {
+namespace vk {
+class CommandBatch;
+}  // namespace vk
 
 // The result of a render: the image, the diagnostic images the method produces (alpha maps,
 // strategy images, sample counts...), sample counts and method-specific statistics.
@@ -174,6 +177,17 @@ private:
     uint32_t m_units;
     uint32_t m_max;
     double m_target;
+};
+
+// Waits for the batches a method keeps in flight, oldest first, and tells each one's time on
+// the device: its timestamps' span, else the wall time from when it could start (submitted,
+// and the batch before it done). What a DispatchSizer learns from.
+class InFlightTimer {
+public:
+    double wait(vk::CommandBatch& batch, std::chrono::steady_clock::time_point submitted);
+
+private:
+    std::chrono::steady_clock::time_point m_lastDone = std::chrono::steady_clock::now();
 };
 
 }  // namespace pmcr

@@ -1,5 +1,7 @@
 #include "render_test.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <map>
 #include <memory>
@@ -32,6 +34,18 @@ RenderResult renderForTest(const Scene& scene, RenderSettings settings) {
     settings.quiet = true;
     resolveImageSize(scene, settings);
     return renderScene(gpuContext(), scene, settings);
+}
+
+std::pair<RenderResult, RenderResult> expectPassesPerBatchKeepTheImage(const Scene& scene, RenderSettings settings,
+                                                                       int together) {
+    settings.options["passes-per-batch"] = "1";
+    RenderResult one = renderForTest(scene, settings);
+    settings.options["passes-per-batch"] = std::to_string(together);
+    RenderResult batched = renderForTest(scene, settings);
+    EXPECT_EQ(batched.stats["method_stats"]["passes_per_batch"].get<int>(), together);
+    EXPECT_EQ(batched.stats["method_stats"]["passes"].get<uint32_t>(), settings.spp);
+    EXPECT_EQ(one.output.image.rgb, batched.output.image.rgb) << settings.method;
+    return {std::move(one), std::move(batched)};
 }
 
 glm::dvec3 imageMean(const Image& image) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 
 #include "image/image.h"
 #include "render/renderer.h"
@@ -20,6 +21,13 @@ RenderSettings renderSettings(const std::string& method, int width, int height, 
 
 // Renders `scene` with `settings` (size resolved from the scene when 0).
 RenderResult renderForTest(const Scene& scene, RenderSettings settings);
+
+// Renders a Metropolis method's `settings` (spp passes) with --passes-per-batch 1 and `together`
+// and expects the same image bit for bit, every pass completed and the count taken (the chains
+// carry their random numbers between submissions and the splat film sums integer quanta; issue
+// 38). Returns the two results, one at a time first, for the method's own checks.
+std::pair<RenderResult, RenderResult> expectPassesPerBatchKeepTheImage(const Scene& scene, RenderSettings settings,
+                                                                       int together);
 
 // Mean of all pixels' luminance... and of each channel.
 glm::dvec3 imageMean(const Image& image);

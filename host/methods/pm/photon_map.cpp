@@ -168,30 +168,6 @@ void buildPhotonGrid(const std::vector<gpu::Photon>& photons, float cellSize, ui
     });
 }
 
-namespace {
-
-// The items of `from` that `keep` accepts, in order, into `to`: counted block by block over the
-// cores, then copied there.
-template <class T, class Keep>
-void parallelFilter(const T* from, size_t count, std::vector<T>& to, const Keep& keep) {
-    constexpr size_t kBlock = 8192;
-    std::vector<size_t> first((count + kBlock - 1) / kBlock + 1, 0);
-    parallelFor(count, kBlock, [&](size_t begin, size_t end) {
-        size_t kept = 0;
-        for (size_t i = begin; i < end; ++i) kept += keep(from[i]) ? 1 : 0;
-        first[begin / kBlock + 1] = kept;
-    });
-    for (size_t b = 1; b < first.size(); ++b) first[b] += first[b - 1];
-    to.resize(first.back());
-    parallelFor(count, kBlock, [&](size_t begin, size_t end) {
-        size_t at = first[begin / kBlock];
-        for (size_t i = begin; i < end; ++i)
-            if (keep(from[i])) to[at++] = from[i];
-    });
-}
-
-}  // namespace
-
 PhotonMap::PhotonMap(RenderSession& session, const PhotonMapOptions& options, double sppPerPass)
     : m_session(session), m_options(options) {
     const RenderSettings& settings = session.settings();
@@ -308,20 +284,8 @@ void PhotonMap::build(uint32_t pass) {
         while (k < slotsPerPath && (p[k].flags & gpu::PHOTON_STORED)) ++k;
         return k;
     };
-    constexpr size_t kPathBlock = 4096;
-    const size_t paths = m_options.photonsPerPass;
-    std::vector<size_t> first((paths + kPathBlock - 1) / kPathBlock + 1, 0);
-    parallelFor(paths, kPathBlock, [&](size_t begin, size_t end) {
-        size_t stored = 0;
-        for (size_t path = begin; path < end; ++path) stored += storedOf(path);
-        first[begin / kPathBlock + 1] = stored;
-    });
-    for (size_t b = 1; b < first.size(); ++b) first[b] += first[b - 1];
-    set.photons.resize(first.back());
-    parallelFor(paths, kPathBlock, [&](size_t begin, size_t end) {
-        gpu::Photon* to = set.photons.data() + first[begin / kPathBlock];
-        for (size_t path = begin; path < end; ++path) to = std::copy_n(slot + path * slotsPerPath, storedOf(path), to);
-    });
+    parallelConcat(size_t(m_options.photonsPerPass), 4096, set.photons, storedOf,
+                   [&](size_t path, gpu::Photon* out) { return std::copy_n(slot + path * slotsPerPath, storedOf(path), out); });
     if (m_r0 == 0.0) {
         // Automatic: the radius whose disc would hold photonsPerDisc of the first pass's photons
         // spread evenly over the scene's surface, but at most kFootprintPixels pixels' footprint
@@ -339,8 +303,11 @@ void PhotonMap::build(uint32_t pass) {
     // The global grid (every photon), then the caustic grid (the caustic photons again), in one
     // photon buffer and one cells buffer (photon_types.h PhotonMapInfo).
     std::vector<gpu::Photon> caustics, sortedCaustics;
-    parallelFilter(set.photons.data(), set.photons.size(), caustics,
-                   [](const gpu::Photon& p) { return (p.flags & gpu::PHOTON_CAUSTIC) != 0; });
+    auto caustic = [&](size_t i) -> size_t { return (set.photons[i].flags & gpu::PHOTON_CAUSTIC) != 0; };
+    parallelConcat(set.photons.size(), 8192, caustics, caustic, [&](size_t i, gpu::Photon* out) {
+        if (caustic(i)) *out++ = set.photons[i];
+        return out;
+    });
     const uint32_t hashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(set.photons.size())));
     const uint32_t causticHashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(caustics.size())));
     std::vector<glm::uvec2> causticCells;

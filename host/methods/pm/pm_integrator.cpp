@@ -83,18 +83,13 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
     const bool timed = settings.timeLimit > 0.0;
     uint64_t passSamplesLeft = 0;  // of the current pass, not yet issued
     double gatherSeconds = 0.0;    // the device's, over the samples gathered
-    auto lastDone = std::chrono::steady_clock::now();
+    InFlightTimer inFlight;
     // A completed batch: its counters and samples join the totals, the sizer learns its time
-    // on the device (timestamps; else from when it could start).
+    // on the device.
     auto finishBatch = [&](GatherSlot& slot) {
         if (!slot.pending) return;
-        slot.batch->wait();
+        const double seconds = inFlight.wait(*slot.batch, slot.submitted);
         slot.pending = false;
-        const auto now = std::chrono::steady_clock::now();
-        const double seconds = slot.batch->lastDeviceSeconds() > 0.0
-                                   ? slot.batch->lastDeviceSeconds()
-                                   : std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
-        lastDone = now;
         sizer.record(slot.samples / slot.dispatches, seconds / slot.dispatches);
         gatherSeconds += seconds;
         Film::addCounters(slot.counters, session.counters());

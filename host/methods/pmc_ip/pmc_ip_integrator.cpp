@@ -342,18 +342,12 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // A batch that completed: its counters and results join the totals and the sampler, in
     // request order (the same seed gives the same sums), and the sizer learns from its time on
     // the device (from when it could start: submitted, and the batch before it done).
-    auto lastDone = std::chrono::steady_clock::now();
+    InFlightTimer inFlight;
     double requestSeconds = 0.0;  // the device's, over the requests reduced
     auto finishBatch = [&](BatchSlot& slot) {
         if (!slot.pending) return;
-        slot.batch->wait();
+        const double seconds = inFlight.wait(*slot.batch, slot.submitted);
         slot.pending = false;
-        const auto now = std::chrono::steady_clock::now();
-        // Its time on the device from timestamps; else from when it could start.
-        const double seconds = slot.batch->lastDeviceSeconds() > 0.0
-                                   ? slot.batch->lastDeviceSeconds()
-                                   : std::chrono::duration<double>(now - std::max(slot.submitted, lastDone)).count();
-        lastDone = now;
         const uint32_t n = uint32_t(slot.list.size());
         sizer.record(n / slot.dispatches, seconds / slot.dispatches);
         requestSeconds += seconds;
