@@ -1,6 +1,7 @@
 #include "render/methods.h"
 
 #include "core/error.h"
+#include "methods/bdpt/bdpt_integrator.h"
 #include "methods/erpt/erpt_integrator.h"
 #include "methods/mlt/mlt_integrator.h"
 #include "methods/pm/pm_integrator.h"
@@ -17,6 +18,7 @@ const std::vector<MethodInfo>& methods() {
     static const std::vector<MethodInfo> list = {
         ptMethod(),
         directMethod(),
+        bdptMethod(),
         pmcIpMethod(),
         pmcIpDirectMethod(),
         pmcHiMethod(),

@@ -37,6 +37,7 @@ using uint64_t = std::uint64_t;
 #include "shared/pmc_er_types.h"
 #include "shared/mlt_types.h"
 #include "shared/pssmlt_types.h"
+#include "shared/bdpt_types.h"
 #include "shared/photon_types.h"
 
 #ifdef __cplusplus

@@ -28,4 +28,12 @@ Image SplatFilm::resolve(float depositEnergy) const {
     return image;
 }
 
+Image SplatFilm::resolveTotal(double scale) {
+    completePass(0);
+    Image image(m_width, m_height);
+    const double perQuantum = scale / double(gpu::SPLAT_QUANTA_PER_DEPOSIT);
+    for (size_t i = 0; i < m_accumulated.size(); ++i) image.rgb[i] = float(double(m_accumulated[i]) * perQuantum);
+    return image;
+}
+
 }  // namespace pmcr

@@ -23,6 +23,9 @@ public:
     int completedPasses() const { return m_passes; }
     // Per-pass average: sum over passes / passes, in pixel-value units (e_d per deposit).
     Image resolve(float depositEnergy) const;
+    // Every deposit so far (completed passes and the device film's), times `scale` per unit
+    // deposited: for splats that are not counted in passes (bdpt's light tracing).
+    Image resolveTotal(double scale);
 
 private:
     int m_width;

@@ -1,0 +1,7 @@
+#version 460
+// Bidirectional path tracing's connect kernel (bdpt_connect_kernel.glsl), for scenes with punctual
+// lights or an environment beside their emitters.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#define PMCR_OTHER_LIGHTS
+#include "methods/bdpt/bdpt_connect_kernel.glsl"

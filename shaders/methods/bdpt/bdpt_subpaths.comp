@@ -1,0 +1,6 @@
+#version 460
+// Bidirectional path tracing's subpaths kernel (bdpt_subpaths_kernel.glsl), for scenes lit by emitters
+// alone (bdpt_subpaths_all_lights.comp: also punctual lights and an environment).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_scalar_block_layout : require
+#include "methods/bdpt/bdpt_subpaths_kernel.glsl"
