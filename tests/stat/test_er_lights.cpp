@@ -15,8 +15,6 @@
 
 #include "gpu_test.h"
 #include "render_test.h"
-#include "scene/environment.h"
-#include "scene_builder.h"
 #include "statistics.h"
 
 namespace pmcr::test {
@@ -25,41 +23,6 @@ namespace {
 // Two suites, so that ctest runs them side by side (their kernels differ by the lights anyway).
 class ErLightsPunctual : public GpuTest {};
 class ErLightsSky : public GpuTest {};
-
-// cornell-glass with a point light near the ceiling and a spot light aimed at the sphere's side.
-Scene withPointLights() {
-    Scene s = testScene("scenes/cornell-glass.glb");
-    const glm::vec3 lo = s.boundsMin, hi = s.boundsMax, size = hi - lo;
-    const float scale = glm::dot(size, size);  // intensities in proportion to the box's size^2
-    s.punctualLights = {
-        punctualLight(gpu::PUNCTUAL_POINT, lo + size * glm::vec3(0.25f, 0.8f, 0.6f), {0, -1, 0},
-                      glm::vec3(0.6f, 0.5f, 0.4f) * scale * 0.05f),
-        punctualLight(gpu::PUNCTUAL_SPOT, lo + size * glm::vec3(0.8f, 0.7f, 0.3f), {-0.5f, -1.0f, 0.3f},
-                      glm::vec3(0.3f, 0.4f, 0.6f) * scale * 0.08f, 0.3f, 0.7f)};
-    s.path = "cornell-glass-point-lights.glb";
-    finalizeScene(s);
-    return s;
-}
-
-// A random sky with a sun (16 x 8 pixels, as test_environment_render.cpp's).
-Environment randomSky() {
-    Environment env = randomSkyImage(29, 0.0f, glm::vec3(2.0f));
-    env.image.set(7, 3, glm::vec3(8.0f, 7.0f, 6.0f));  // a sun (brighter ones make heavy tails)
-    env.rotation = 0.3f;
-    return env;
-}
-
-// cornell-glass under the sky and a directional light along the camera's view, tilted down.
-Scene withSkyAndSun() {
-    Scene s = testScene("scenes/cornell-glass.glb");
-    const glm::vec3 forward = s.cameras[0].forward, up = s.cameras[0].up;
-    s.environment = randomSky();
-    s.punctualLights = {punctualLight(gpu::PUNCTUAL_DIRECTIONAL, {}, forward - 0.4f * up + 0.2f * s.cameras[0].right,
-                                      {1.5f, 1.4f, 1.2f})};
-    s.path = "cornell-glass-sky.glb";
-    finalizeScene(s);
-    return s;
-}
 
 RenderSettings settingsFor(const std::string& method, uint32_t spp) {
     RenderSettings s;
@@ -137,9 +100,9 @@ void expectAllUnbiased(const Scene& scene, bool directZTest) {
     expectUnbiased(scene, settingsFor("mlt", 16), 40, full);
 }
 
-TEST_F(ErLightsPunctual, PointAndSpotLights) { expectAllUnbiased(withPointLights(), true); }
+TEST_F(ErLightsPunctual, PointAndSpotLights) { expectAllUnbiased(cornellGlassWithPointLights(), true); }
 
-TEST_F(ErLightsSky, EnvironmentAndDirectionalLight) { expectAllUnbiased(withSkyAndSun(), false); }
+TEST_F(ErLightsSky, EnvironmentAndDirectionalLight) { expectAllUnbiased(cornellGlassUnderSkyAndSun(), false); }
 
 }  // namespace
 }  // namespace pmcr::test

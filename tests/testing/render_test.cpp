@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <memory>
 
 #include "gpu_test.h"
+#include "scene/environment.h"
 #include "scene/gltf_loader.h"
+#include "scene_builder.h"
 #include "test_util.h"
 
 namespace pmcr::test {
@@ -17,6 +20,35 @@ const Scene& testScene(const std::string& relativePath) {
     auto& slot = cache[relativePath];
     if (!slot) slot = std::make_unique<Scene>(loadScene(sourcePath(relativePath)));
     return *slot;
+}
+
+Scene cornellGlassWithPointLights() { return withPointAndSpotLights("scenes/cornell-glass.glb"); }
+
+Scene withPointAndSpotLights(const std::string& relativePath) {
+    Scene s = testScene(relativePath);
+    const glm::vec3 lo = s.boundsMin, hi = s.boundsMax, size = hi - lo;
+    const float scale = glm::dot(size, size);
+    s.punctualLights = {
+        punctualLight(gpu::PUNCTUAL_POINT, lo + size * glm::vec3(0.25f, 0.8f, 0.6f), {0, -1, 0},
+                      glm::vec3(0.6f, 0.5f, 0.4f) * scale * 0.05f),
+        punctualLight(gpu::PUNCTUAL_SPOT, lo + size * glm::vec3(0.8f, 0.7f, 0.3f), {-0.5f, -1.0f, 0.3f},
+                      glm::vec3(0.3f, 0.4f, 0.6f) * scale * 0.08f, 0.3f, 0.7f)};
+    s.path = std::filesystem::path(relativePath).stem().string() + "-point-lights.glb";
+    finalizeScene(s);
+    return s;
+}
+
+Scene cornellGlassUnderSkyAndSun() {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    const glm::vec3 forward = s.cameras[0].forward, up = s.cameras[0].up;
+    s.environment = randomSkyImage(29, 0.0f, glm::vec3(2.0f));
+    s.environment.image.set(7, 3, glm::vec3(8.0f, 7.0f, 6.0f));  // a sun (brighter ones make heavy tails)
+    s.environment.rotation = 0.3f;
+    s.punctualLights = {punctualLight(gpu::PUNCTUAL_DIRECTIONAL, {}, forward - 0.4f * up + 0.2f * s.cameras[0].right,
+                                      {1.5f, 1.4f, 1.2f})};
+    s.path = "cornell-glass-sky.glb";
+    finalizeScene(s);
+    return s;
 }
 
 RenderSettings renderSettings(const std::string& method, int width, int height, uint32_t spp,

@@ -15,6 +15,18 @@ namespace pmcr::test {
 // Loads a scene from the source tree once per test binary (cached by path).
 const Scene& testScene(const std::string& relativePath);
 
+// cornell-glass with a point light near the ceiling and a spot light aimed at the sphere's side
+// beside its area light (intensities in proportion to the box's size^2): light vertices with a
+// position.
+Scene cornellGlassWithPointLights();
+// The same two lights, placed by the bounding box, added to the scene at `relativePath`.
+Scene withPointAndSpotLights(const std::string& relativePath);
+
+// cornell-glass under a random 16 x 8 sky with a sun pixel (randomSkyImage seed 29) and a
+// directional light along the camera's view, tilted down, shining in through the open front:
+// light vertices that are directions.
+Scene cornellGlassUnderSkyAndSun();
+
 // Settings for a small test render: `method` at width x height, `spp`, at most `maxDepth` bounces.
 RenderSettings renderSettings(const std::string& method, int width, int height, uint32_t spp,
                               uint32_t maxDepth = RenderSettings{}.maxDepth);
