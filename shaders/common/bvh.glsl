@@ -284,6 +284,12 @@ bool bvhStep(inout BvhTraversal t) {
     return true;
 }
 
+#ifdef BVH_COUNT_STEPS
+// Every traversal step this invocation has taken: for a kernel that keeps its loop iterations
+// within lavapipe's budget per invocation (methods/bdpt/bdpt_connect_kernel.glsl).
+uint bvhStepsTaken = 0u;
+#endif
+
 // The whole traversal of one ray. Each step visits one wide node or two triangles and none
 // twice, so the loop runs fewer than textureSize(bvhTexels) times.
 bool bvhTraverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
@@ -291,6 +297,9 @@ bool bvhTraverse(vec3 origin, vec3 dir, float tMax, bool anyHit, out Hit hit) {
     bvhBegin(origin, dir, tMax, anyHit, t);
     uint texelCount = uint(textureSize(bvhTexels));
     for (uint step = 0u; step < texelCount; ++step) {
+#ifdef BVH_COUNT_STEPS
+        bvhStepsTaken += 1u;
+#endif
         if (!bvhStep(t)) {
             break;
         }

@@ -67,6 +67,7 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
     vk::Buffer strategies(session.context(), m_strategyImages ? strategyFloats * sizeof(float) : 16, usage,
                           "bdpt strategy images");
     strategies.fill(0);
+    vk::Buffer queue(session.context(), gpu::BDPT_QUEUE_SLOTS * sizeof(uint32_t), usage, "bdpt queue");
 
     vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "bdpt work");
     work.bind(gpu::BDPT_BINDING_FILM, film.pixels());
@@ -76,6 +77,10 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
     work.bind(gpu::BDPT_BINDING_COUNTS, counts);
     work.bind(gpu::BDPT_BINDING_STRATEGIES, strategies);
     work.bind(gpu::BDPT_BINDING_SPLAT, splats.pixels());
+    work.bind(gpu::BDPT_BINDING_QUEUE, queue);
+    // Connections in turn on a CPU device (bdpt_connect_kernel.glsl): up to 64 samples an
+    // invocation, from a queue.
+    push.itemsPerInvocation = session.context().isCpuDevice() ? 64 : 1;
 
     const uint32_t spp = settings.spp > 0 ? settings.spp
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
@@ -100,10 +105,11 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
     while (pass < spp && !session.shouldStop()) {
         const auto batchStart = std::chrono::steady_clock::now();
         batch.fill(film.counters(), 0);
+        batch.fill(queue, 0);
         batch.bind(session.scene().descriptorSet());
         batch.bind(work);
-        const double dispatchesPerBatch =
-            std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds());
+        const double dispatchesPerBatch = std::min<double>(
+            gpu::BDPT_QUEUE_SLOTS, std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
         const double snapshotSpp = session.nextSnapshotSpp();
         const uint32_t batchEnd = snapshotSpp > double(pass) && snapshotSpp < double(spp)
                                       ? uint32_t(std::ceil(snapshotSpp))
@@ -115,6 +121,7 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
             push.pixelOffset = offset;
             push.count = count;
             push.sampleIndex = pass;
+            push.queueSlot = dispatches;
             batch.dispatch(subpaths, push, count);
             batch.dispatch(connect, push, count);
             ++dispatches;

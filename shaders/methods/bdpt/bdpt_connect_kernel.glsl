@@ -17,6 +17,7 @@
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { BdptPush push; };
 
+#define BVH_COUNT_STEPS  // bvhStepsTaken, for connections in turn (main)
 #define FILM_BINDING BDPT_BINDING_FILM
 #define COUNTERS_BINDING BDPT_BINDING_COUNTERS
 #include "common/film.glsl"
@@ -27,6 +28,7 @@ layout(push_constant, scalar) uniform PushBlock { BdptPush push; };
 layout(set = WORK_SET, binding = BDPT_BINDING_STRATEGIES, scalar) buffer StrategyBuffer {
     float strategies[];
 };
+layout(set = WORK_SET, binding = BDPT_BINDING_QUEUE, scalar) buffer QueueBuffer { uint queue[]; };
 
 uint gCameraBase;
 uint gLightBase;
@@ -44,7 +46,16 @@ float misTerm(float r) { return balanceHeuristicMis() ? r : r * r; }
 // subpaths, with the densities at the four vertices around the connection evaluated for this
 // path, and no strategy that would have to connect at a delta vertex or hit a delta light.
 // qs (with shQs) is the light end (the sampled light for s = 1), pt (shPt) the camera end.
-float bdptMisWeight(uint s, uint t, BdptVertex qs, ShadingPoint shQs, BdptVertex pt, ShadingPoint shPt) {
+//
+// Only the two vertices next to the connection on each side have densities of this path's own;
+// beyond them the terms are the recorded ones, whose sums the caller keeps as it steps through
+// t and s (cameraTail, lightTail: see tailStep), so a weight costs O(1) instead of O(s + t).
+// With r_i = rev_i / fwd_i and m_i = 1 when neither vertex i nor the one before it is a delta,
+// the camera side's terms below vertex t - 2 sum to k(r_{t-1} r_{t-2}) * cameraTail(t),
+// cameraTail(t) = sum_{i=1}^{t-3} m_i prod_{j=i}^{t-3} k(r_j), and likewise for the light side
+// from vertex 0 (k: misTerm, multiplicative for both heuristics).
+float bdptMisWeight(uint s, uint t, BdptVertex qs, ShadingPoint shQs, BdptVertex pt, ShadingPoint shPt,
+                    float cameraTail, float lightTail) {
     if (s + t == 2u) return 1.0;
     bool hasQsMinus = s > 1u;
     bool hasPtMinus = t > 1u;
@@ -58,27 +69,39 @@ float bdptMisWeight(uint s, uint t, BdptVertex qs, ShadingPoint shQs, BdptVertex
     float qsMinusRev = hasQsMinus ? vertexPdf(qs, shQs, true, pt, qsMinus) : 0.0;
 
     float sum = 0.0;
-    // Strategies with fewer camera vertices: camera vertex i sampled by the light subpath.
-    float ri = 1.0;
-    for (uint i = t - 1u; i > 0u; --i) {
-        BdptVertex v = i == t - 1u ? pt : cameraVertex(i);
-        float rev = i == t - 1u ? ptRev : i + 2u == t ? ptMinusRev : v.pdfRev;
-        ri *= remap0(rev) / remap0(v.pdfFwd);
-        bool delta = i != t - 1u && vertexDelta(v);
-        if (!delta && !vertexDelta(cameraVertex(i - 1u))) sum += misTerm(ri);
+    // Strategies with fewer camera vertices: camera vertex i >= 1 sampled by the light subpath
+    // (pt itself counts as no delta: it is connected).
+    if (t >= 2u) {
+        float r1 = remap0(ptRev) / remap0(pt.pdfFwd);
+        if (!vertexDelta(ptMinus)) sum += misTerm(r1);
+        if (t >= 3u) {
+            float r2 = r1 * remap0(ptMinusRev) / remap0(ptMinus.pdfFwd);
+            bool deltaBefore = (cameraVertices[gCameraBase + t - 3u].flags & BDPT_VERTEX_DELTA) != 0u;
+            if (!vertexDelta(ptMinus) && !deltaBefore) sum += misTerm(r2);
+            sum += misTerm(r2) * cameraTail;
+        }
     }
     // Strategies with fewer light vertices: light vertex i sampled by the camera subpath.
-    ri = 1.0;
-    for (uint k = 0u; k < s; ++k) {
-        uint i = s - 1u - k;
-        BdptVertex v = i == s - 1u ? qs : lightVertex(i);
-        float rev = i == s - 1u ? qsRev : i + 2u == s ? qsMinusRev : v.pdfRev;
-        ri *= remap0(rev) / remap0(v.pdfFwd);
-        bool delta = i != s - 1u && vertexDelta(v);
-        bool deltaBefore = i > 0u ? vertexDelta(lightVertex(i - 1u)) : vertexDeltaLight(v);
-        if (!delta && !deltaBefore) sum += misTerm(ri);
+    if (s >= 1u) {
+        float r1 = remap0(qsRev) / remap0(qs.pdfFwd);
+        if (!(hasQsMinus ? vertexDelta(qsMinus) : vertexDeltaLight(qs))) sum += misTerm(r1);
+        if (hasQsMinus) {
+            float r2 = r1 * remap0(qsMinusRev) / remap0(qsMinus.pdfFwd);
+            bool deltaBefore = s >= 3u ? (lightVertices[gLightBase + s - 3u].flags & BDPT_VERTEX_DELTA) != 0u
+                                       : vertexDeltaLight(qsMinus);
+            if (!vertexDelta(qsMinus) && !deltaBefore) sum += misTerm(r2);
+            sum += misTerm(r2) * lightTail;
+        }
     }
     return 1.0 / (1.0 + sum);
+}
+
+// One step of a tail sum of bdptMisWeight: the tail with vertex v (recorded densities) added
+// below it, tail' = k(r_v) (tail + m_v), where deltaBefore tells whether the vertex before v (or
+// v's light, for light vertex 0) is a delta.
+float tailStep(float tail, BdptVertex v, bool deltaBefore) {
+    float m = !vertexDelta(v) && !deltaBefore ? 1.0 : 0.0;
+    return misTerm(remap0(v.pdfRev) / remap0(v.pdfFwd)) * (tail + m);
 }
 
 // The light vertex of next-event estimation's sample ls (s = 1): its position or direction and
@@ -125,120 +148,198 @@ void addToStrategyImage(uint pixel, uint s, uint t, vec3 weighted, vec3 unweight
     }
 }
 
+// The camera sample whose strategies an invocation is evaluating, and where it is: strategy
+// (s, t), with what stays the same along s for its camera vertex t - 1.
+struct SampleState {
+    uint pixel;
+    uvec2 counts;    // camera and light vertices
+    uint t;
+    uint s;
+    Sampler smp;
+    Rng rng;         // the splats' rounding
+    vec3 L;          // the t >= 2 strategies so far
+    float cameraTail;  // bdptMisWeight's tails for (s, t)
+    float lightTail;
+    BdptVertex pt;     // camera vertex t - 1
+    ShadingPoint shPt;
+    bool ptConnectible;
+    float uLight;      // its s = 1 light sample's numbers
+    vec2 uLightPoint;
+};
+
+// Moves st to camera vertex st.t - 1 and strategy (0, t).
+void beginCameraVertex(inout SampleState st) {
+    uint t = st.t;
+    if (t >= 4u) st.cameraTail = tailStep(st.cameraTail, cameraVertex(t - 3u), vertexDelta(cameraVertex(t - 4u)));
+    st.pt = cameraVertex(t - 1u);
+    st.ptConnectible = false;
+    if (st.pt.type == BDPT_SURFACE) {
+        st.shPt = vertexShading(st.pt);
+        st.ptConnectible = bsdfHasNonDelta(st.shPt.bsdf);
+    }
+    st.smp.dimension = bdptConnectDimension(push.maxDepth) + 2u * (t - 1u);
+    st.uLight = samplerGet1D(st.smp);
+    st.uLightPoint = samplerGet2D(st.smp);
+    st.s = 0u;
+    st.lightTail = 0.0;
+}
+
+// Starts camera sample `index` of the dispatch at strategy (0, 1).
+void beginSample(inout SampleState st, uint index) {
+    st.pixel = push.pixelOffset + index;
+    gCameraBase = index * push.cameraStride;
+    gLightBase = index * push.lightStride;
+    st.counts = vertexCounts[index];
+    st.smp = samplerCreate(st.pixel, push.sampleIndex, push.seed);
+    st.rng = rngCreate(hash3(push.seed ^ 0x5bd1e995u, st.pixel, push.sampleIndex));
+    st.L = vec3(0.0);
+    st.cameraTail = 0.0;
+    st.t = 1u;
+    beginCameraVertex(st);
+}
+
+// Moves st to its next strategy: s + 1, else the next camera vertex; false when none is left.
+bool nextStrategy(inout SampleState st) {
+    st.s += 1u;
+    if (st.s > st.counts.y || st.s + st.t > push.maxDepth + 2u) {
+        st.t += 1u;
+        if (st.t > st.counts.x) return false;
+        beginCameraVertex(st);
+        return true;
+    }
+    if (st.s >= 3u) {
+        BdptVertex v = lightVertex(st.s - 3u);
+        bool deltaBefore = st.s >= 4u ? vertexDelta(lightVertex(st.s - 4u)) : vertexDeltaLight(v);
+        st.lightTail = tailStep(st.lightTail, v, deltaBefore);
+    }
+    return true;
+}
+
+// Strategy (st.s, st.t): its contribution, MIS-weighted, added to st.L (t >= 2) or splatted at
+// the pixel the light vertex is seen through (t = 1).
+void evaluateStrategy(inout SampleState st, bool strategyImages, inout uint rays, inout uint dropped) {
+    uint s = st.s;
+    uint t = st.t;
+    if (s + t < 2u || (s == 1u && t == 1u)) return;
+    ShadingPoint none;
+    vec3 c = vec3(0.0);
+    float w = 0.0;
+    uint target = st.pixel;
+    if (s == 0u) {
+        // The camera subpath found a light.
+        if (st.pt.type == BDPT_LIGHT_INFINITE)
+            c = st.pt.beta * envRadiance(st.pt.wo);
+        else if (st.pt.type == BDPT_SURFACE)
+            c = st.pt.beta * emittedRadiance(st.shPt.surface, st.pt.wo);
+        if (maxComponent(c) > 0.0) w = bdptMisWeight(0u, t, st.pt, none, st.pt, st.shPt, st.cameraTail, st.lightTail);
+    } else if (t == 1u) {
+        // Light tracing: light vertex s - 1 seen by the pinhole, We cos / d^2
+        // (pbrt-v4 PerspectiveCamera::SampleWi with a lens of area 1).
+        BdptVertex qs = lightVertex(s - 1u);
+        if (qs.type != BDPT_SURFACE) return;
+        ShadingPoint shQs = vertexShading(qs);
+        if (!bsdfHasNonDelta(shQs.bsdf)) return;
+        vec3 toCamera = sceneInfo.cameraPosition - qs.position;
+        float dist2 = dot(toCamera, toCamera);
+        vec3 wCamera = toCamera * inversesqrt(dist2);
+        vec2 raster;
+        float cosCamera = cameraCosine(-wCamera);
+        if (!(cosCamera > 0.0) || !cameraRasterPosition(-wCamera, raster)) return;
+        target = min(uint(raster.y), sceneInfo.height - 1u) * sceneInfo.width +
+                 min(uint(raster.x), sceneInfo.width - 1u);
+        float absCos;
+        vec3 f = shadingEvalImportance(shQs, wCamera, absCos);
+        float We = 1.0 / (cameraImageArea() * sqr(sqr(cosCamera)));
+        c = qs.beta * f * absCos * We * cosCamera / dist2;
+        if (maxComponent(c) > 0.0) {
+            rays += 1u;
+            ShadowRay r = shadowSegment(spawnOrigin(shQs, wCamera), sceneInfo.cameraPosition);
+            if (traceAny(r.origin, r.dir, r.tMax)) c = vec3(0.0);
+        }
+        if (maxComponent(c) > 0.0) w = bdptMisWeight(s, 1u, qs, shQs, cameraVertex(0u), none, st.cameraTail, st.lightTail);
+    } else if (s == 1u) {
+        // Next-event estimation from camera vertex t - 1.
+        if (!st.ptConnectible) return;
+        LightSampleFrom ls = sampleLightFrom(st.shPt, st.uLight, st.uLightPoint);
+        if (!(maxComponent(ls.Le) > 0.0) || !(ls.pdf > 0.0)) return;
+        float pdfBsdf, absCos;
+        vec3 f = shadingEval(st.shPt, ls.wi, pdfBsdf, absCos);
+        c = st.pt.beta * f * absCos * ls.Le / ls.pdf;
+        if (maxComponent(c) > 0.0) {
+            rays += 1u;
+            if (traceAny(ls.ray.origin, ls.ray.dir, ls.ray.tMax)) c = vec3(0.0);
+        }
+        if (maxComponent(c) > 0.0)
+            w = bdptMisWeight(1u, t, sampledLightVertex(ls), none, st.pt, st.shPt, st.cameraTail, st.lightTail);
+    } else {
+        // Light vertex s - 1 and camera vertex t - 1 joined by a shadow ray.
+        if (!st.ptConnectible) return;
+        BdptVertex qs = lightVertex(s - 1u);
+        if (qs.type != BDPT_SURFACE) return;
+        ShadingPoint shQs = vertexShading(qs);
+        if (!bsdfHasNonDelta(shQs.bsdf)) return;
+        vec3 d = qs.position - st.pt.position;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 0.0)) return;
+        vec3 w1 = d * inversesqrt(dist2);
+        float pdfBsdf, cosPt, cosQs;
+        vec3 fPt = shadingEval(st.shPt, w1, pdfBsdf, cosPt);
+        vec3 fQs = shadingEvalImportance(shQs, -w1, cosQs);
+        c = qs.beta * fQs * fPt * st.pt.beta * (cosPt * cosQs / dist2);
+        if (maxComponent(c) > 0.0) {
+            rays += 1u;
+            ShadowRay r = shadowSegment(spawnOrigin(st.shPt, w1), spawnOrigin(shQs, -w1));
+            if (traceAny(r.origin, r.dir, r.tMax)) c = vec3(0.0);
+        }
+        if (maxComponent(c) > 0.0) w = bdptMisWeight(s, t, qs, shQs, st.pt, st.shPt, st.cameraTail, st.lightTail);
+    }
+    if (!(maxComponent(c) > 0.0)) return;
+    vec3 weighted = c * w;
+    if (strategyImages) addToStrategyImage(target, s, t, weighted, c);
+    if (t == 1u) {
+        if (!splatDeposit(target, weighted, 1.0, st.rng)) dropped += 1u;
+    } else {
+        st.L += weighted;
+    }
+}
+
+// Connections in turn: on a CPU device (itemsPerInvocation > 1) each invocation takes camera
+// samples from a queue, one strategy per loop iteration, and starts its next sample as soon as
+// one is done, so that the SIMD lanes lavapipe runs together (whose subpaths differ in length)
+// stay busy, as pt's paths in turn (camera_sample_kernel.glsl). It stops taking samples once
+// its traversal steps and iterations pass BDPT_LOOP_STEPS_BEFORE_STOP, far below lavapipe's
+// budget of 65535 loop iterations per invocation (tests/gpu/test_loop_limits.cpp); the
+// dispatch has an invocation per sample, so every sample is taken. A pixel still has one sample
+// per dispatch, added to the film by whichever invocation took it, so the image does not depend
+// on who did: the same seed gives the same image. On a GPU each invocation takes its own sample.
+const uint BDPT_LOOP_STEPS_BEFORE_STOP = 16384u;
+
 void main() {
-    uint i = gl_GlobalInvocationID.x;
     uint rays = 0u;
     uint dropped = 0u;
     uint paths = 0u;
-    if (i < push.count) {
-        uint pixel = push.pixelOffset + i;
-        gCameraBase = i * push.cameraStride;
-        gLightBase = i * push.lightStride;
-        uvec2 counts = vertexCounts[i];
-        Sampler smp = samplerCreate(pixel, push.sampleIndex, push.seed);
-        Rng rng = rngCreate(hash3(push.seed ^ 0x5bd1e995u, pixel, push.sampleIndex));
+    bool fromQueue = push.itemsPerInvocation > 1u;
+    uint index = fromQueue ? atomicAdd(queue[push.queueSlot], 1u) : gl_GlobalInvocationID.x;
+    if (index < push.count) {
         bool strategyImages = (push.flags & BDPT_FLAG_STRATEGY_IMAGES) != 0u;
-        ShadingPoint none;
-        vec3 L = vec3(0.0);
-        for (uint t = 1u; t <= counts.x; ++t) {
-            BdptVertex pt = cameraVertex(t - 1u);
-            ShadingPoint shPt;
-            bool ptConnectible = false;
-            if (pt.type == BDPT_SURFACE) {
-                shPt = vertexShading(pt);
-                ptConnectible = bsdfHasNonDelta(shPt.bsdf);
-            }
-            smp.dimension = bdptConnectDimension(push.maxDepth) + 2u * (t - 1u);
-            float uLight = samplerGet1D(smp);
-            vec2 uLightPoint = samplerGet2D(smp);
-            for (uint s = 0u; s <= counts.y; ++s) {
-                if (s + t < 2u || s + t - 2u > push.maxDepth || (s == 1u && t == 1u)) continue;
-                vec3 c = vec3(0.0);
-                float w = 0.0;
-                uint target = pixel;
-                if (s == 0u) {
-                    // The camera subpath found a light.
-                    if (pt.type == BDPT_LIGHT_INFINITE)
-                        c = pt.beta * envRadiance(pt.wo);
-                    else if (pt.type == BDPT_SURFACE)
-                        c = pt.beta * emittedRadiance(shPt.surface, pt.wo);
-                    if (maxComponent(c) > 0.0) w = bdptMisWeight(0u, t, pt, none, pt, shPt);
-                } else if (t == 1u) {
-                    // Light tracing: light vertex s - 1 seen by the pinhole, We cos / d^2
-                    // (pbrt-v4 PerspectiveCamera::SampleWi with a lens of area 1).
-                    BdptVertex qs = lightVertex(s - 1u);
-                    if (qs.type != BDPT_SURFACE) continue;
-                    ShadingPoint shQs = vertexShading(qs);
-                    if (!bsdfHasNonDelta(shQs.bsdf)) continue;
-                    vec3 toCamera = sceneInfo.cameraPosition - qs.position;
-                    float dist2 = dot(toCamera, toCamera);
-                    vec3 wCamera = toCamera * inversesqrt(dist2);
-                    vec2 raster;
-                    float cosCamera = cameraCosine(-wCamera);
-                    if (!(cosCamera > 0.0) || !cameraRasterPosition(-wCamera, raster)) continue;
-                    target = min(uint(raster.y), sceneInfo.height - 1u) * sceneInfo.width +
-                             min(uint(raster.x), sceneInfo.width - 1u);
-                    float absCos;
-                    vec3 f = shadingEvalImportance(shQs, wCamera, absCos);
-                    float We = 1.0 / (cameraImageArea() * sqr(sqr(cosCamera)));
-                    c = qs.beta * f * absCos * We * cosCamera / dist2;
-                    if (maxComponent(c) > 0.0) {
-                        rays += 1u;
-                        ShadowRay r = shadowSegment(spawnOrigin(shQs, wCamera), sceneInfo.cameraPosition);
-                        if (traceAny(r.origin, r.dir, r.tMax)) c = vec3(0.0);
-                    }
-                    if (maxComponent(c) > 0.0) w = bdptMisWeight(s, 1u, qs, shQs, cameraVertex(0u), none);
-                } else if (s == 1u) {
-                    // Next-event estimation from camera vertex t - 1.
-                    if (!ptConnectible) continue;
-                    LightSampleFrom ls = sampleLightFrom(shPt, uLight, uLightPoint);
-                    if (!(maxComponent(ls.Le) > 0.0) || !(ls.pdf > 0.0)) continue;
-                    float pdfBsdf, absCos;
-                    vec3 f = shadingEval(shPt, ls.wi, pdfBsdf, absCos);
-                    c = pt.beta * f * absCos * ls.Le / ls.pdf;
-                    if (maxComponent(c) > 0.0) {
-                        rays += 1u;
-                        if (traceAny(ls.ray.origin, ls.ray.dir, ls.ray.tMax)) c = vec3(0.0);
-                    }
-                    if (maxComponent(c) > 0.0)
-                        w = bdptMisWeight(1u, t, sampledLightVertex(ls), none, pt, shPt);
-                } else {
-                    // Light vertex s - 1 and camera vertex t - 1 joined by a shadow ray.
-                    if (!ptConnectible) continue;
-                    BdptVertex qs = lightVertex(s - 1u);
-                    if (qs.type != BDPT_SURFACE) continue;
-                    ShadingPoint shQs = vertexShading(qs);
-                    if (!bsdfHasNonDelta(shQs.bsdf)) continue;
-                    vec3 d = qs.position - pt.position;
-                    float dist2 = dot(d, d);
-                    if (!(dist2 > 0.0)) continue;
-                    vec3 w1 = d * inversesqrt(dist2);
-                    float pdfBsdf, cosPt, cosQs;
-                    vec3 fPt = shadingEval(shPt, w1, pdfBsdf, cosPt);
-                    vec3 fQs = shadingEvalImportance(shQs, -w1, cosQs);
-                    c = qs.beta * fQs * fPt * pt.beta * (cosPt * cosQs / dist2);
-                    if (maxComponent(c) > 0.0) {
-                        rays += 1u;
-                        ShadowRay r = shadowSegment(spawnOrigin(shPt, w1), spawnOrigin(shQs, -w1));
-                        if (traceAny(r.origin, r.dir, r.tMax)) c = vec3(0.0);
-                    }
-                    if (maxComponent(c) > 0.0) w = bdptMisWeight(s, t, qs, shQs, pt, shPt);
-                }
-                if (!(maxComponent(c) > 0.0)) continue;
-                vec3 weighted = c * w;
-                if (strategyImages) addToStrategyImage(target, s, t, weighted, c);
-                if (t == 1u) {
-                    if (!splatDeposit(target, weighted, 1.0, rng)) dropped += 1u;
-                } else {
-                    L += weighted;
-                }
-            }
+        SampleState st;
+        beginSample(st, index);
+        uint steps = max(push.itemsPerInvocation, 1u) * push.cameraStride * (push.lightStride + 1u);
+        for (uint b = 0u; b < steps; ++b) {
+            evaluateStrategy(st, strategyImages, rays, dropped);
+            if (nextStrategy(st)) continue;
+            PixelAccumulator acc = accumulatorCreate();
+            accumulatorAdd(acc, st.L);
+            filmAccumulate(st.pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
+            dropped += acc.dropped;
+            paths += 1u;
+            if (!fromQueue || paths >= push.itemsPerInvocation ||
+                bvhStepsTaken + b > BDPT_LOOP_STEPS_BEFORE_STOP)
+                break;
+            index = atomicAdd(queue[push.queueSlot], 1u);
+            if (index >= push.count) break;
+            beginSample(st, index);
         }
-        PixelAccumulator acc = accumulatorCreate();
-        accumulatorAdd(acc, L);
-        filmAccumulate(pixel, acc.sum, acc.lumSum, acc.lumSqSum, acc.count);
-        dropped += acc.dropped;
-        paths = 1u;
     }
     counterAdd(COUNTER_RAYS, rays);
     counterAdd(COUNTER_NAN_DROPPED, dropped);
