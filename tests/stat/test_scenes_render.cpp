@@ -1,6 +1,7 @@
 // Every scene in scenes/ loads, has a light, and renders a few samples of path tracing, and a
 // few mutations per pixel of the Metropolis methods (mlt, pssmlt: their own path construction)
-// and a few photon passes (pm, pm-pmc: photons shot from every kind of light),
+// and a few photon passes (pm, pm-pmc: photons shot from every kind of light) and bidirectional
+// samples (bdpt: light subpaths from every kind of light, splatted),
 // without a single NaN/Inf sample or dropped deposit and without an all-black image. Third-party samples without a light of
 // their own (glTF sample models) are lit by the shipped sky, as scenes/README.md says to.
 #include <gtest/gtest.h>
@@ -69,19 +70,19 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
     return name;
 }
 
-// check: every scene with pt, and the other methods' own path construction (mlt, pssmlt) and
-// photon shooting (pm, pm-pmc) on the box with a glass sphere. The full tier: every method on
+// check: every scene with pt, and the other methods' own path construction (mlt, pssmlt, bdpt)
+// and photon shooting (pm, pm-pmc) on the box with a glass sphere. The full tier: every method on
 // every scene (tests/CMakeLists.txt).
 INSTANTIATE_TEST_SUITE_P(AllScenes, SceneRenders,
                          ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("pt")),
                          paramName);
 INSTANTIATE_TEST_SUITE_P(OneScene, SceneRenders,
                          ::testing::Combine(::testing::Values("scenes/cornell-glass.glb"),
-                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc")),
+                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc", "bdpt")),
                          paramName);
 INSTANTIATE_TEST_SUITE_P(EveryMethod, SceneRenders,
                          ::testing::Combine(::testing::ValuesIn(sceneFiles()),
-                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc")),
+                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc", "bdpt")),
                          paramName);
 
 }  // namespace
