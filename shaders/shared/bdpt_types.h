@@ -50,8 +50,8 @@ PMCR_CONST uint BDPT_BINDING_LIGHT_VERTICES = 3;   // BdptVertex[sample * lightS
 PMCR_CONST uint BDPT_BINDING_COUNTS = 4;           // uvec2[sample]: camera and light vertex counts
 PMCR_CONST uint BDPT_BINDING_STRATEGIES = 5;       // float[(pixel * COUNT + strategy) * 6]
 PMCR_CONST uint BDPT_BINDING_SPLAT = 6;            // SplatPixel[] (= ERPT_BINDING_SPLAT)
-PMCR_CONST uint BDPT_BINDING_QUEUE = 8;            // uint[BDPT_QUEUE_SLOTS]: connections in turn
-PMCR_CONST uint BDPT_QUEUE_SLOTS = 4096;           // one per dispatch of a batch
+PMCR_CONST uint BDPT_BINDING_QUEUE = 8;            // uint[BDPT_QUEUE_SLOTS]: walks and connections in turn
+PMCR_CONST uint BDPT_QUEUE_SLOTS = 4096;           // two per pair of dispatches of a batch
 
 PMCR_CONST uint BDPT_FLAG_STRATEGY_IMAGES = 1u;  // write the strategy images
 
@@ -66,7 +66,7 @@ struct BdptPush {
     uint lightStride;      // maxDepth + 1 vertices
     uint flags;            // BDPT_FLAG_*
     uint pad2;
-    uint itemsPerInvocation;  // connect: > 1 takes samples from queue[queueSlot] in turn (CPU)
+    uint itemsPerInvocation;  // > 1: samples from queue[queueSlot] in turn (CPU)
     uint queueSlot;
 };
 PMCR_CHECK_SIZE(BdptPush, 48);

@@ -78,8 +78,8 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
     work.bind(gpu::BDPT_BINDING_STRATEGIES, strategies);
     work.bind(gpu::BDPT_BINDING_SPLAT, splats.pixels());
     work.bind(gpu::BDPT_BINDING_QUEUE, queue);
-    // Connections in turn on a CPU device (bdpt_connect_kernel.glsl): up to 64 samples an
-    // invocation, from a queue.
+    // Walks and connections in turn on a CPU device (bdpt_connect_kernel.glsl): up to 64
+    // samples an invocation, from a queue (two slots per dispatch pair).
     push.itemsPerInvocation = session.context().isCpuDevice() ? 64 : 1;
 
     const uint32_t spp = settings.spp > 0 ? settings.spp
@@ -109,7 +109,7 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
         batch.bind(session.scene().descriptorSet());
         batch.bind(work);
         const double dispatchesPerBatch = std::min<double>(
-            gpu::BDPT_QUEUE_SLOTS, std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
+            gpu::BDPT_QUEUE_SLOTS / 2, std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds()));
         const double snapshotSpp = session.nextSnapshotSpp();
         const uint32_t batchEnd = snapshotSpp > double(pass) && snapshotSpp < double(spp)
                                       ? uint32_t(std::ceil(snapshotSpp))
@@ -121,8 +121,9 @@ RenderOutput BdptIntegrator::render(RenderSession& session) {
             push.pixelOffset = offset;
             push.count = count;
             push.sampleIndex = pass;
-            push.queueSlot = dispatches;
+            push.queueSlot = 2 * dispatches;
             batch.dispatch(subpaths, push, count);
+            push.queueSlot = 2 * dispatches + 1;
             batch.dispatch(connect, push, count);
             ++dispatches;
             batchSamples += count;

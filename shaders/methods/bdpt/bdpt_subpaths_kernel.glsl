@@ -10,6 +10,7 @@
 layout(local_size_x = WORKGROUP_SIZE) in;
 layout(push_constant, scalar) uniform PushBlock { BdptPush push; };
 
+#define BVH_COUNT_STEPS  // bvhStepsTaken, for walks in turn (main)
 #define FILM_BINDING BDPT_BINDING_FILM
 #define COUNTERS_BINDING BDPT_BINDING_COUNTERS
 #include "common/film.glsl"
@@ -18,6 +19,8 @@ layout(push_constant, scalar) uniform PushBlock { BdptPush push; };
 #include "methods/bdpt/bdpt_vertex.glsl"
 #include "methods/pm/photon_emission.glsl"
 
+layout(set = WORK_SET, binding = BDPT_BINDING_QUEUE, scalar) buffer QueueBuffer { uint queue[]; };
+
 void storeVertex(bool light, uint index, BdptVertex v) {
     if (light)
         lightVertices[index] = v;
@@ -25,119 +28,141 @@ void storeVertex(bool light, uint index, BdptVertex v) {
         cameraVertices[index] = v;
 }
 
-// Continues a subpath whose vertex 0 is `prev` (stored here at base) from the ray (origin, dir)
-// with throughput beta and solid-angle density pdfDir of dir at prev (for an infinite light: the
-// density per unit area of the disc the ray leaves). Scatters by BSDF sampling (the adjoint BSDF
-// on light subpaths), records each vertex's forward density and its predecessor's reverse one,
-// and applies Russian roulette from rrDepth on the throughput gained since vertex 0 (times
-// eta^2 on camera subpaths, as pt). Returns the vertex count, vertex 0 included.
-uint randomWalk(bool light, uint base, BdptVertex prev, vec3 origin, vec3 dir, vec3 beta,
-                float pdfDir, uint maxVertices, inout Sampler smp, inout uint rays) {
-    // prev is vertex n - 1, stored once its reverse density is known (or the walk ends).
-    uint n = 1u;
-    float pdfFwd = pdfDir;
-    vec3 rrThroughput = vec3(1.0);
-    float etaScale = 1.0;
-    for (uint i = 1u; i < maxVertices; ++i) {
-        Hit hit;
-        rays += 1u;
-        if (!traceClosest(origin, dir, FLOAT_MAX, hit)) {
-            storeVertex(light, base + n - 1u, prev);
-            // A camera subpath that escapes reaches the environment: a light vertex (s = 0).
-            if (!light && hasEnvironment()) {
-                BdptVertex e = bdptVertex(BDPT_LIGHT_INFINITE);
-                e.wo = dir;
-                e.beta = beta;
-                e.pdfFwd = pdfFwd;  // solid angle (convertDensity towards an infinite light)
-                storeVertex(light, base + n, e);
-                n += 1u;
-            }
-            return n;
-        }
-        SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
-        beta *= segmentTransmittance(s, dir, hit.t);
-        vec3 wo = -dir;
-        BdptVertex v = bdptVertex(BDPT_SURFACE);
-        v.position = s.position;
-        v.normal = s.normal;
-        v.triangle = s.triangle;
-        v.barycentrics = vec2(hit.b1, hit.b2);
-        v.wo = wo;
-        v.beta = beta;
-        v.pdfFwd = convertDensity(prev, pdfFwd, v);
-        ShadingPoint sh = makeShadingPoint(s, wo);
-        float uLobe = samplerGet1D(smp);
-        vec2 uDir = samplerGet2D(smp);
-        float uRoulette = samplerGet1D(smp);
-        BsdfSample bs;
-        vec3 wi;
-        if (i + 1u == maxVertices || !shadingSample(sh, uLobe, uDir, bs, wi)) {
-            storeVertex(light, base + n - 1u, prev);
-            storeVertex(light, base + n, v);
-            return n + 1u;
-        }
-        vec3 factor = bs.f * abs(bs.wi.z) / bs.pdf;
-        if (light) {
-            // The adjoint BSDF (bdpt_vertex.glsl shadingEvalImportance, photon_shoot_kernel.glsl).
-            if (bs.wi.z < 0.0) factor *= sqr(sh.bsdf.eta);
-            float denom = abs(dot(wo, sh.ng)) * abs(bs.wi.z);
-            factor *= denom > 0.0 ? abs(sh.woLocal.z) * abs(dot(wi, sh.ng)) / denom : 0.0;
-        } else if (bs.wi.z < 0.0) {
-            etaScale *= sqr(sh.bsdf.eta);
-        }
-        float pdfRev = 0.0;
-        if (bs.delta) {
-            v.flags |= BDPT_VERTEX_DELTA;
-            pdfFwd = 0.0;
-        } else {
-            pdfFwd = bs.pdf;
-            pdfRev = shadingPdf(sh, wi, wo);
-        }
-        beta *= factor;
-        rrThroughput *= factor;
-        prev.pdfRev = convertDensity(v, pdfRev, prev);
-        storeVertex(light, base + n - 1u, prev);
-        prev = v;
-        n += 1u;
-        // Russian roulette after rrDepth bounces (pt's rule; vertex i is bounce i - 1).
-        bool alive = maxComponent(beta) > 0.0 && isFinite(beta);
-        if (alive && i >= push.rrDepth) {
-            float rrBeta = maxComponent(rrThroughput * etaScale);
-            if (rrBeta < 1.0) {
-                float q = max(0.0, 1.0 - rrBeta);
-                if (uRoulette < q) {
-                    alive = false;
-                } else {
-                    beta /= 1.0 - q;
-                    rrThroughput /= 1.0 - q;
-                }
-            }
-        }
-        if (!alive) break;
-        origin = spawnOrigin(sh, wi);
-        dir = wi;
+// A subpath being walked: vertex 0 is `prev` (stored at base once its reverse density is known)
+// and the walk continues from the ray (origin, dir) with throughput beta and solid-angle density
+// pdfFwd of dir at prev (for an infinite light: the density per unit area of the disc the ray
+// leaves). It scatters by BSDF sampling (the adjoint BSDF on light subpaths), records each
+// vertex's forward density and its predecessor's reverse one, and applies Russian roulette from
+// rrDepth on the throughput gained since vertex 0 (times eta^2 on camera subpaths, as pt).
+struct Walk {
+    bool light;
+    uint base;
+    uint maxVertices;
+    BdptVertex prev;   // vertex n - 1, not stored yet
+    uint n;            // vertices so far
+    float pdfFwd;
+    vec3 rrThroughput;
+    float etaScale;
+    vec3 origin;
+    vec3 dir;
+    vec3 beta;
+};
+
+Walk walkBegin(bool light, uint base, BdptVertex first, vec3 origin, vec3 dir, vec3 beta, float pdfDir,
+               uint maxVertices) {
+    return Walk(light, base, maxVertices, first, 1u, pdfDir, vec3(1.0), 1.0, origin, dir, beta);
+}
+
+// One step of the walk: traces its ray and scatters at the hit. False when the walk has ended,
+// every vertex stored: w.n is then the subpath's vertex count.
+bool walkStep(inout Walk w, inout Sampler smp, inout uint rays) {
+    if (w.n >= w.maxVertices) {
+        storeVertex(w.light, w.base + w.n - 1u, w.prev);
+        return false;
     }
-    storeVertex(light, base + n - 1u, prev);
-    return n;
+    Hit hit;
+    rays += 1u;
+    if (!traceClosest(w.origin, w.dir, FLOAT_MAX, hit)) {
+        storeVertex(w.light, w.base + w.n - 1u, w.prev);
+        // A camera subpath that escapes reaches the environment: a light vertex (s = 0).
+        if (!w.light && hasEnvironment()) {
+            BdptVertex e = bdptVertex(BDPT_LIGHT_INFINITE);
+            e.wo = w.dir;
+            e.beta = w.beta;
+            e.pdfFwd = w.pdfFwd;  // solid angle (convertDensity towards an infinite light)
+            storeVertex(w.light, w.base + w.n, e);
+            w.n += 1u;
+        }
+        return false;
+    }
+    SurfacePoint s = surfaceAt(hit.triangle, vec2(hit.b1, hit.b2));
+    w.beta *= segmentTransmittance(s, w.dir, hit.t);
+    vec3 wo = -w.dir;
+    BdptVertex v = bdptVertex(BDPT_SURFACE);
+    v.position = s.position;
+    v.normal = s.normal;
+    v.triangle = s.triangle;
+    v.barycentrics = vec2(hit.b1, hit.b2);
+    v.wo = wo;
+    v.beta = w.beta;
+    v.pdfFwd = convertDensity(w.prev, w.pdfFwd, v);
+    ShadingPoint sh = makeShadingPoint(s, wo);
+    float uLobe = samplerGet1D(smp);
+    vec2 uDir = samplerGet2D(smp);
+    float uRoulette = samplerGet1D(smp);
+    BsdfSample bs;
+    vec3 wi;
+    if (w.n + 1u == w.maxVertices || !shadingSample(sh, uLobe, uDir, bs, wi)) {
+        storeVertex(w.light, w.base + w.n - 1u, w.prev);
+        storeVertex(w.light, w.base + w.n, v);
+        w.n += 1u;
+        return false;
+    }
+    vec3 factor = bs.f * abs(bs.wi.z) / bs.pdf;
+    if (w.light) {
+        // The adjoint BSDF (bdpt_vertex.glsl shadingEvalImportance, photon_shoot_kernel.glsl).
+        if (bs.wi.z < 0.0) factor *= sqr(sh.bsdf.eta);
+        float denom = abs(dot(wo, sh.ng)) * abs(bs.wi.z);
+        factor *= denom > 0.0 ? abs(sh.woLocal.z) * abs(dot(wi, sh.ng)) / denom : 0.0;
+    } else if (bs.wi.z < 0.0) {
+        w.etaScale *= sqr(sh.bsdf.eta);
+    }
+    float pdfRev = 0.0;
+    if (bs.delta) {
+        v.flags |= BDPT_VERTEX_DELTA;
+        w.pdfFwd = 0.0;
+    } else {
+        w.pdfFwd = bs.pdf;
+        pdfRev = shadingPdf(sh, wi, wo);
+    }
+    w.beta *= factor;
+    w.rrThroughput *= factor;
+    w.prev.pdfRev = convertDensity(v, pdfRev, w.prev);
+    storeVertex(w.light, w.base + w.n - 1u, w.prev);
+    w.prev = v;
+    w.n += 1u;
+    // Russian roulette after rrDepth bounces (pt's rule; vertex n - 1 is bounce n - 2).
+    bool alive = maxComponent(w.beta) > 0.0 && isFinite(w.beta);
+    if (alive && w.n - 1u >= push.rrDepth) {
+        float rrBeta = maxComponent(w.rrThroughput * w.etaScale);
+        if (rrBeta < 1.0) {
+            float q = max(0.0, 1.0 - rrBeta);
+            if (uRoulette < q) {
+                alive = false;
+            } else {
+                w.beta /= 1.0 - q;
+                w.rrThroughput /= 1.0 - q;
+            }
+        }
+    }
+    if (!alive) {
+        storeVertex(w.light, w.base + w.n - 1u, w.prev);
+        return false;
+    }
+    w.origin = spawnOrigin(sh, wi);
+    w.dir = wi;
+    return true;
 }
 
 // The camera subpath through raster position `raster`: the pinhole, then the walk.
-uint cameraSubpath(uint base, vec2 raster, inout Sampler smp, inout uint rays) {
+Walk cameraWalk(uint base, vec2 raster) {
     BdptVertex c = bdptVertex(BDPT_CAMERA);
     c.position = sceneInfo.cameraPosition;
     c.normal = sceneInfo.cameraForward;
     c.beta = vec3(1.0);  // We cos / (p_pos p_dir) = 1 for the pinhole
     c.pdfFwd = 1.0;
     vec3 dir = cameraDirection(raster);
-    return randomWalk(false, base, c, sceneInfo.cameraPosition, dir, vec3(1.0),
-                      cameraDirectionPdf(dir), push.cameraStride, smp, rays);
+    return walkBegin(false, base, c, sceneInfo.cameraPosition, dir, vec3(1.0), cameraDirectionPdf(dir),
+                     push.cameraStride);
 }
 
 // The light subpath: a light picked as light sampling picks it (lights.glsl), a point on it and
 // a direction, as photons leave lights (photon_emission.glsl), then the walk. Vertex 0's beta is
 // its emitted radiance over the density of its position; the walk starts with
 // Le |cos| / (p_select p_pos p_dir) (Veach 1997 sec. 10.2).
-uint lightSubpath(uint base, inout Sampler smp, inout uint rays) {
+// False when the subpath ends at its light (w.n: 0 or 1 vertices, stored); else w is its walk.
+bool lightWalk(uint base, inout Sampler smp, out Walk w) {
+    w.n = 0u;
     float uLight = samplerGet1D(smp);
     vec2 uPoint = samplerGet2D(smp);
     vec2 uDir = samplerGet2D(smp);
@@ -153,7 +178,7 @@ uint lightSubpath(uint base, inout Sampler smp, inout uint rays) {
         l.wo = e.wi;
         l.pdfFwd = e.pdf * sceneInfo.envSelectPmf;
         l.beta = e.Le;
-        if (!(e.pdf > 0.0)) return 0u;
+        if (!(e.pdf > 0.0)) return false;
         dir = -e.wi;
         origin = photonDiscOrigin(dir, uDir);
         pdfDir = 1.0 / photonDiscArea();  // per unit area of the disc (convertDensity: times |cos|)
@@ -201,7 +226,7 @@ uint lightSubpath(uint base, inout Sampler smp, inout uint rays) {
         // An emitter: a point uniform on a triangle picked by power, a cosine-distributed
         // direction on its emitting side (either side with probability 1/2 when double-sided).
         LightSample ls = sampleLight(uLight, uPoint);
-        if (!(ls.pdfArea > 0.0)) return 0u;
+        if (!(ls.pdfArea > 0.0)) return false;
         l = bdptVertex(BDPT_LIGHT_AREA);
         l.position = ls.point.position;
         l.normal = ls.point.normal;
@@ -228,25 +253,63 @@ uint lightSubpath(uint base, inout Sampler smp, inout uint rays) {
     }
     if (!(maxComponent(beta) > 0.0) || !isFinite(beta)) {
         storeVertex(true, base, l);
-        return 1u;
+        w.n = 1u;
+        return false;
     }
-    return randomWalk(true, base, l, origin, dir, beta, pdfDir, push.lightStride, smp, rays);
+    w = walkBegin(true, base, l, origin, dir, beta, pdfDir, push.lightStride);
+    return true;
 }
 
+// A camera sample's two subpaths, walked one after the other.
+struct SampleWalks {
+    uint index;       // in the dispatch
+    Sampler smp;
+    Walk walk;
+    bool lightPhase;  // walking the light subpath
+    uint cameraCount;
+};
+
+void beginSample(inout SampleWalks sw, uint index) {
+    uint pixel = push.pixelOffset + index;
+    sw.index = index;
+    sw.smp = samplerCreate(pixel, push.sampleIndex, push.seed);
+    vec2 u = independentPixelSamples() ? samplerGetIndependent2D(sw.smp) : samplerGet2D(sw.smp);
+    vec2 raster = vec2(float(pixel % sceneInfo.width), float(pixel / sceneInfo.width)) + u;
+    sw.walk = cameraWalk(index * push.cameraStride, raster);
+    sw.lightPhase = false;
+    sw.cameraCount = 0u;
+}
+
+// Walks in turn, as the connection kernel's connections in turn (bdpt_connect_kernel.glsl): on
+// a CPU device each invocation takes samples from a queue, one ray per loop iteration, and
+// starts its next sample as soon as one is done, within lavapipe's loop budget.
+const uint BDPT_LOOP_STEPS_BEFORE_STOP = 16384u;
+
 void main() {
-    uint i = gl_GlobalInvocationID.x;
     uint rays = 0u;
-    if (i < push.count) {
-        uint pixel = push.pixelOffset + i;
-        Sampler smp = samplerCreate(pixel, push.sampleIndex, push.seed);
-        vec2 u = independentPixelSamples() ? samplerGetIndependent2D(smp) : samplerGet2D(smp);
-        vec2 raster = vec2(float(pixel % sceneInfo.width), float(pixel / sceneInfo.width)) + u;
-        uint cameraCount = cameraSubpath(i * push.cameraStride, raster, smp, rays);
-        smp.dimension = bdptLightDimension(push.maxDepth);
-        uint lightCount = lightSubpath(i * push.lightStride, smp, rays);
-        vertexCounts[i] = uvec2(cameraCount, lightCount);
-        // The raster position, for the connection kernel (camera vertex 0's barycentrics).
-        cameraVertices[i * push.cameraStride].barycentrics = raster;
+    bool fromQueue = push.itemsPerInvocation > 1u;
+    uint index = fromQueue ? atomicAdd(queue[push.queueSlot], 1u) : gl_GlobalInvocationID.x;
+    if (index < push.count) {
+        SampleWalks sw;
+        beginSample(sw, index);
+        uint done = 0u;
+        uint steps = max(push.itemsPerInvocation, 1u) * (push.cameraStride + push.lightStride + 1u);
+        for (uint b = 0u; b < steps; ++b) {
+            if (walkStep(sw.walk, sw.smp, rays)) continue;
+            if (!sw.lightPhase) {
+                sw.cameraCount = sw.walk.n;
+                sw.smp.dimension = bdptLightDimension(push.maxDepth);
+                sw.lightPhase = true;
+                if (lightWalk(sw.index * push.lightStride, sw.smp, sw.walk)) continue;
+            }
+            vertexCounts[sw.index] = uvec2(sw.cameraCount, sw.walk.n);
+            done += 1u;
+            if (!fromQueue || done >= push.itemsPerInvocation || bvhStepsTaken + b > BDPT_LOOP_STEPS_BEFORE_STOP)
+                break;
+            index = atomicAdd(queue[push.queueSlot], 1u);
+            if (index >= push.count) break;
+            beginSample(sw, index);
+        }
     }
     counterAdd(COUNTER_RAYS, rays);
 }
