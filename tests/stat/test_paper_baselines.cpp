@@ -79,9 +79,9 @@ TEST_F(PaperBaselines, EveryMethodThatOffersAnOptionTakesIt) {
             ++checked;
         }
     }
-    // pt, direct, pmc-ip, pmc-ip-direct, pmc-pt take both; pmc-hi, pmc-ip-hi and pm-pmc (PMC-IP
-    // over photon mapping's gather) the sampler.
-    EXPECT_EQ(checked, 13);
+    // pt, direct, bdpt, pmc-ip, pmc-ip-direct, pmc-pt take both; pmc-hi, pmc-ip-hi and pm-pmc
+    // (PMC-IP over photon mapping's gather) the sampler.
+    EXPECT_EQ(checked, 15);
 }
 
 }  // namespace
