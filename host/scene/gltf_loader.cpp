@@ -718,17 +718,16 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         m.emissiveTexture = uint32_t(texture(src.emissiveTexture, "emissiveTexture") + 1);
     }
     // alphaMode (glTF 2.0 sec. 3.9.5): MASK cuts the surface where alpha = baseColorFactor.a *
-    // the base colour texture's alpha is below alphaCutoff. BLEND (partial coverage, a
-    // rasterizer's compositing) is rendered as MASK with the default cutoff.
-    if (src.alphaMode == "MASK" || src.alphaMode == "BLEND") {
-        double cutoff = 0.5;
-        if (src.alphaMode == "MASK") {
-            cutoff = number(src.alphaCutoff, "alphaCutoff", 0, HUGE_VAL);
-        } else {
-            ignoreFor("alphaMode BLEND is rendered as MASK with alphaCutoff 0.5 (no partial "
-                      "coverage)",
-                      name);
-        }
+    // the base colour texture's alpha is below alphaCutoff. BLEND is partial coverage: the
+    // surface is there with probability alpha and a ray passes on otherwise (MATERIAL_BLEND,
+    // shaders/common/bsdf.glsl LOBE_PASS), which is what a rasterizer's compositing averages.
+    if (src.alphaMode == "BLEND") {
+        const double alpha = number(pbr.baseColorFactor[3], "baseColorFactor", 0, 1);
+        m.flags |= gpu::MATERIAL_BLEND;
+        m.coverage = float(alpha);
+        if (alpha == 0.0) m_invisible[size_t(index)] = true;  // no texture can bring it back
+    } else if (src.alphaMode == "MASK") {
+        const double cutoff = number(src.alphaCutoff, "alphaCutoff", 0, HUGE_VAL);
         const double alpha = number(pbr.baseColorFactor[3], "baseColorFactor", 0, 1);
         if (m.baseColorTexture >= 0 && cutoff > 0.0) {
             // Compared with the texture's alpha alone; above 1 everything is cut.
@@ -805,13 +804,10 @@ gpu::Material GltfLoader::convertMaterial(int index) {
             }
         }
     }
-    if (m.transmission > 0.0f && thickness == 0.0) {
-        ignoreFor(
-            "transmission without KHR_materials_volume thickness is thin-walled in glTF; "
-            "pmcr renders it as a solid refractive interface",
-            name);
-    }
-    m.flags = src.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
+    // Without a volume (or with thicknessFactor 0) transmission is thin-walled
+    // (KHR_materials_volume: "thicknessFactor 0 means the material is thin-walled"): a sheet.
+    if (m.transmission > 0.0f && thickness == 0.0) m.flags |= gpu::MATERIAL_THIN_WALLED;
+    if (src.doubleSided) m.flags |= gpu::MATERIAL_DOUBLE_SIDED;
     return m;
 }
 

@@ -2,11 +2,29 @@
 // (see shared/scene_types.h `Material` and the material notes in docs/scenes.md):
 //   conductor   weight metallic                        GGX, Schlick F0 = baseColor; mirror if smooth
 //   dielectric  weight (1 - metallic) transmission     smooth or GGX rough glass (Walter 2007),
-//                                                      transmission tinted by baseColor
+//                                                      transmission tinted by baseColor; or,
+//                                                      thin-walled, a thin sheet (below)
 //   base        weight (1 - metallic)(1 - transmission)
 //       roughness == 1: Lambertian baseColor / pi
 //       roughness  < 1: GGX dielectric coat (ior) over a Lambertian base attenuated by
 //                       (1 - F(cos_i))(1 - F(cos_o)), which keeps it reciprocal and below 1.
+// all three times the coverage a (alphaMode BLEND; 1 otherwise), and
+//   pass        weight 1 - a                           a delta: the ray goes on unchanged.
+// BLEND is thus the mixture a * surface + (1 - a) * nothing (Mitsuba 3's `mask` BSDF): a pass
+// is a specular transmission vertex with eta 1, which every method already handles (path
+// tracing and photon mapping sample it, ERPT and MLT perturb through it as through glass),
+// and a shadow ray stops at the surface as it does at glass: its expectation over the pass
+// choice is the coverage-weighted sum every estimator and every Metropolis target evaluates.
+//
+// Thin-walled dielectric (KHR_materials_transmission without KHR_materials_volume): a sheet
+// whose two parallel faces are close enough that light leaves it where it entered, in the
+// direction it came (pbrt-v4 ThinDielectricBxDF; Pharr et al., PBR 4th ed., sec. 9.5.1):
+// reflectance R' = R + T^2 R / (1 - R^2) summed over the bounces inside (R the interface's
+// Fresnel reflectance, T = 1 - R), transmittance 1 - R', no change of eta (eta = 1 here). Rough
+// (alpha >= SMOOTH_ALPHA), each GGX microfacet m acts as that sheet: the reflection about m with
+// weight R'(wo.m), or its mirror image through the surface plane with weight 1 - R'(wo.m), the
+// visible normal sampled as for the conductor. f_t(wo, wi) = f_r(wo, flip(wi)) (1 - R') / R',
+// so it is reciprocal, tends to the smooth sheet as alpha -> 0 and holds energy at most 1.
 //
 // Everything is evaluated in a local frame whose +z is the shading normal turned to the side of
 // wo (the direction towards the previous vertex), so wo.z > 0 for valid queries; wi.z > 0 is
@@ -28,6 +46,7 @@ const uint LOBE_DIFFUSE = 1u;
 const uint LOBE_COAT = 2u;        // GGX (or smooth) dielectric coat reflection over diffuse
 const uint LOBE_CONDUCTOR = 3u;
 const uint LOBE_DIELECTRIC = 4u;  // reflection or transmission of the glass lobe
+const uint LOBE_PASS = 5u;        // BLEND coverage: the ray passes on unchanged (a delta)
 
 struct Bsdf {
     vec3 baseColor;
@@ -38,6 +57,8 @@ struct Bsdf {
     float ior;           // material ior, for the coat and the glass
     float eta;           // eta(wi side) / eta(wo side) for transmission (see header)
     bool coated;         // base lobe has the dielectric coat (roughness < 1)
+    bool thin;           // the dielectric lobe is a thin sheet (eta is then 1)
+    float wPass;         // 1 - coverage (alphaMode BLEND): weight of the pass-through delta
 };
 
 struct BsdfSample {
@@ -46,28 +67,56 @@ struct BsdfSample {
     float pdf;    // solid angle, or discrete probability for a delta lobe
     uint lobe;
     bool delta;
+    float eta;    // eta(wi side) / eta(wo side) of the event: b.eta for a refraction, else 1
 };
 
-// Builds the BSDF for a material; `frontSide` tells whether wo is on the front (outside) side.
+// Builds the BSDF for a material; `frontSide` tells whether wo is on the front (outside) side,
+// `thin` whether its transmission is thin-walled, `coverage` its BLEND alpha (1: opaque).
 Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float transmission, float ior,
-              bool frontSide) {
+              bool frontSide, bool thin, float coverage) {
     Bsdf b;
     b.baseColor = baseColor;
     b.alpha = max(roughness * roughness, 0.0);
-    b.wConductor = clamp(metallic, 0.0, 1.0);
-    b.wDielectric = (1.0 - b.wConductor) * clamp(transmission, 0.0, 1.0);
-    b.wBase = max(0.0, 1.0 - b.wConductor - b.wDielectric);
+    float a = clamp(coverage, 0.0, 1.0);
+    float conductor = clamp(metallic, 0.0, 1.0);
+    float dielectric = (1.0 - conductor) * clamp(transmission, 0.0, 1.0);
+    b.wConductor = a * conductor;
+    b.wDielectric = a * dielectric;
+    b.wBase = a * max(0.0, 1.0 - conductor - dielectric);
+    b.wPass = 1.0 - a;
     b.ior = max(ior, 1.0);
-    b.eta = frontSide ? b.ior : 1.0 / b.ior;
+    b.thin = thin;
+    b.eta = thin ? 1.0 : frontSide ? b.ior : 1.0 / b.ior;
     b.coated = roughness < 1.0;
     return b;
+}
+
+// Reflectance of a thin dielectric sheet of index ior seen at cosTheta, the light bouncing
+// between its faces summed: R + T^2 R / (1 - R^2) (pbrt-v4 ThinDielectricBxDF, PBR 4th ed.
+// sec. 9.5.1). From air an interface never reflects totally, so R < 1.
+float thinDielectricReflectance(float cosTheta, float ior) {
+    float R = fresnelDielectric(abs(cosTheta), ior);
+    float T = 1.0 - R;
+    return R < 1.0 ? R + T * T * R / (1.0 - R * R) : 1.0;
+}
+
+// The glass lobe's reflectance at cos(wo, m): the sheet's or the interface's Fresnel factor.
+float dielectricReflectance(Bsdf b, float cosTheta) {
+    return b.thin ? thinDielectricReflectance(cosTheta, b.ior) : fresnelDielectric(cosTheta, b.eta);
+}
+
+// eta of the event `lobe` (transmitting or not) makes: the ratio radiance transport divides by
+// squared, and etendue through a specular vertex multiplies by (mutate_caustic.glsl). Only a
+// refraction by solid glass changes it; a thin sheet and a BLEND pass leave it at 1.
+float bsdfLobeEta(Bsdf b, uint lobe, bool transmit) {
+    return transmit && lobe == LOBE_DIELECTRIC ? b.eta : 1.0;
 }
 
 bool bsdfSmooth(Bsdf b) { return b.alpha < SMOOTH_ALPHA; }
 
 // True when some lobe is not a delta, i.e. light sampling can contribute.
 bool bsdfHasNonDelta(Bsdf b) {
-    if (b.wBase > 0.0) return true;  // the Lambertian part is never a delta
+    if (b.wBase > 0.0) return true;  // (zero at coverage 0: a pass only)  // the Lambertian part is never a delta
     return !bsdfSmooth(b) && (b.wConductor > 0.0 || b.wDielectric > 0.0);
 }
 
@@ -122,9 +171,13 @@ float pdfConductor(Bsdf b, vec3 wo, vec3 wi) {
 
 // Generalised half vector of the rough dielectric (Walter 2007, eq. 16), facing +z; false for
 // configurations no microfacet produces.
+// A thin sheet's transmission is the reflection mirrored through the surface plane, so its half
+// vector (and its facing test) is that of wo and wi's mirror image.
 bool dielectricHalfVector(Bsdf b, vec3 wo, vec3 wi, out vec3 m, out bool reflect) {
     reflect = wi.z > 0.0;
-    m = reflect ? wo + wi : wo + wi * b.eta;
+    // A thin sheet's transmission is the reflection towards wi mirrored: work with that.
+    if (!reflect && b.thin) wi.z = -wi.z;
+    m = reflect || b.thin ? wo + wi : wo + wi * b.eta;
     if (dot(m, m) == 0.0 || wi.z == 0.0) return false;
     m = normalize(m);
     if (m.z < 0.0) m = -m;
@@ -137,9 +190,11 @@ vec3 evalDielectric(Bsdf b, vec3 wo, vec3 wi) {
     vec3 m;
     bool reflect;
     if (!dielectricHalfVector(b, wo, wi, m, reflect)) return vec3(0.0);
-    float F = fresnelDielectric(dot(wo, m), b.eta);
+    float F = dielectricReflectance(b, dot(wo, m));
     float DG = ggxD(m, b.alpha) * ggxG2(wo, wi, b.alpha);
     if (reflect) return vec3(DG * F / (4.0 * wo.z * wi.z));
+    // The thin sheet's mirrored reflection (header), tinted by baseColor.
+    if (b.thin) return b.baseColor * (DG * (1.0 - F) / (4.0 * wo.z * abs(wi.z)));
     // Walter 2007, eq. 21, divided by eta^2 for radiance transport.
     float denom = sqr(dot(wi, m) + dot(wo, m) / b.eta);
     float ft = DG * (1.0 - F) * abs(dot(wi, m) * dot(wo, m) / (wi.z * wo.z * denom)) / sqr(b.eta);
@@ -151,9 +206,10 @@ float pdfDielectric(Bsdf b, vec3 wo, vec3 wi) {
     vec3 m;
     bool reflect;
     if (!dielectricHalfVector(b, wo, wi, m, reflect)) return 0.0;
-    float F = fresnelDielectric(dot(wo, m), b.eta);
+    float F = dielectricReflectance(b, dot(wo, m));
     float pm = ggxVisibleNormalPdf(wo, m, b.alpha);
     if (reflect) return pm * F / (4.0 * abs(dot(wo, m)));
+    if (b.thin) return pm * (1.0 - F) / (4.0 * abs(dot(wo, m)));
     // Jacobian of the refraction half vector (Walter 2007, eq. 17).
     float denom = sqr(dot(wi, m) + dot(wo, m) / b.eta);
     return pm * (1.0 - F) * abs(dot(wi, m)) / denom;
@@ -247,13 +303,16 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         vec3 m;
         bool reflect;
         if (dielectricHalfVector(b, wo, wi, m, reflect)) {
-            float F = fresnelDielectric(dot(wo, m), b.eta);
+            float F = dielectricReflectance(b, dot(wo, m));
             float D = ggxD(m, b.alpha);
             float DG = D * G2;
             float pm = G1o * max(dot(wo, m), 0.0) * D / wo.z;
             if (reflect) {
                 f += b.wDielectric * vec3(DG * F / (4.0 * wo.z * wi.z));
                 pdf += p.w * (pm * F / (4.0 * abs(dot(wo, m))));
+            } else if (b.thin) {
+                f += b.wDielectric * (b.baseColor * (DG * (1.0 - F) / (4.0 * wo.z * abs(wi.z))));
+                pdf += p.w * (pm * (1.0 - F) / (4.0 * abs(dot(wo, m))));
             } else {
                 float denom = sqr(dot(wi, m) + dot(wo, m) / b.eta);
                 float ft = DG * (1.0 - F) * abs(dot(wi, m) * dot(wo, m) / (wi.z * wo.z * denom)) / sqr(b.eta);
@@ -266,23 +325,34 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
 }
 
 // The delta lobes. For a specular `lobe` (LOBE_COAT, LOBE_CONDUCTOR or LOBE_DIELECTRIC, the
-// latter reflecting or transmitting), the direction it scatters wo into and its weight
-// f * |cos(wi)| (the lobe's Fresnel factor times its mixture weight; transmission tinted by
-// baseColor and divided by eta^2). False when the material has no such delta lobe or the
+// latter reflecting or transmitting, or LOBE_PASS, transmitting), the direction it scatters wo
+// into and its weight f * |cos(wi)| (the lobe's Fresnel factor times its mixture weight;
+// transmission tinted by baseColor and divided by eta^2; a thin sheet's straight through with
+// its 1 - R'; a pass's 1 - coverage). False when the material has no such delta lobe or the
 // direction does not exist (total internal reflection). Path mutations use this to follow
 // specular chains; bsdfSample divides the weight by the lobe's probability.
 bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out vec3 weight) {
     wi = vec3(-wo.x, -wo.y, wo.z);
     weight = vec3(0.0);
-    if (!bsdfSmooth(b) || wo.z <= 0.0) return false;
+    if (wo.z <= 0.0) return false;
+    if (lobe == LOBE_PASS) {
+        if (!transmit) return false;
+        wi = -wo;
+        weight = vec3(b.wPass);
+        return b.wPass > 0.0;
+    }
+    if (!bsdfSmooth(b)) return false;
     if (lobe == LOBE_COAT && !transmit && b.wBase > 0.0 && b.coated) {
         weight = vec3(b.wBase * fresnelDielectric(wo.z, b.ior));
     } else if (lobe == LOBE_CONDUCTOR && !transmit && b.wConductor > 0.0) {
         weight = b.wConductor * fresnelSchlick(b.baseColor, wo.z);
     } else if (lobe == LOBE_DIELECTRIC && b.wDielectric > 0.0) {
-        float F = fresnelDielectric(wo.z, b.eta);
+        float F = dielectricReflectance(b, wo.z);
         if (!transmit) {
             weight = vec3(b.wDielectric * F);
+        } else if (b.thin) {
+            wi = -wo;
+            weight = b.wDielectric * b.baseColor * (1.0 - F);
         } else {
             if (!refractDirection(wo, vec3(0.0, 0.0, 1.0), b.eta, wi)) return false;
             weight = b.wDielectric * b.baseColor * ((1.0 - F) / sqr(b.eta));
@@ -303,6 +373,7 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
     s.pdf = 0.0;
     s.lobe = LOBE_NONE;
     s.delta = false;
+    s.eta = 1.0;
     if (wo.z <= 0.0) return false;
     vec4 p = lobeSelectProbabilities(b, wo);
     const bool isSmooth = bsdfSmooth(b);
@@ -340,31 +411,47 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
         vec3 m = ggxSampleVisibleNormal(wo, b.alpha, u);
         s.wi = reflect(-wo, m);
         if (s.wi.z <= 0.0) return false;
-    } else if (p.w > 0.0) {
+    } else if (p.w > 0.0 && (b.wPass == 0.0 || uLobe < p.x + p.y + p.z + p.w)) {
         s.lobe = LOBE_DIELECTRIC;
         // Re-use the lobe sample's remainder to choose reflection or transmission.
         float uChoice = clamp((uLobe - (p.x + p.y + p.z)) / p.w, 0.0, ONE_MINUS_EPSILON);
         if (isSmooth) {
             // Reflect with probability F, else transmit (total internal reflection: F = 1).
-            float F = fresnelDielectric(wo.z, b.eta);
+            float F = dielectricReflectance(b, wo.z);
             bool transmit = uChoice >= F;
             vec3 weight;
             if (!bsdfSpecular(b, wo, LOBE_DIELECTRIC, transmit, s.wi, weight)) return false;
             s.f = weight / abs(s.wi.z);
             s.pdf = p.w * (transmit ? 1.0 - F : F);
             s.delta = true;
+            s.eta = bsdfLobeEta(b, LOBE_DIELECTRIC, transmit);
             return s.pdf > 0.0;
         }
         vec3 m = ggxSampleVisibleNormal(wo, b.alpha, u);
-        float F = fresnelDielectric(dot(wo, m), b.eta);
+        float F = dielectricReflectance(b, dot(wo, m));
         if (uChoice < F) {
             s.wi = reflect(-wo, m);
             if (s.wi.z <= 0.0) return false;
+        } else if (b.thin) {
+            // The reflection mirrored through the surface plane (header).
+            vec3 r = reflect(-wo, m);
+            if (r.z <= 0.0) return false;
+            s.wi = vec3(r.xy, -r.z);
         } else {
             vec3 wt;
             if (!refractDirection(wo, m, b.eta, wt) || wt.z >= 0.0) return false;
             s.wi = wt;
+            s.eta = b.eta;
         }
+    } else if (b.wPass > 0.0) {
+        // BLEND: the ray passes on with probability 1 - coverage, weight 1.
+        s.lobe = LOBE_PASS;
+        vec3 weight;
+        if (!bsdfSpecular(b, wo, LOBE_PASS, true, s.wi, weight)) return false;
+        s.f = weight / wo.z;
+        s.pdf = b.wPass;
+        s.delta = true;
+        return true;
     } else {
         return false;
     }

@@ -49,7 +49,8 @@ Material materialAt(uint i) {
     uvec4 e = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 4u));
     uvec4 f = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 5u));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
-                    c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x), f.y, f.z, f.w);
+                    c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x),
+                    uintBitsToFloat(f.y), f.z, f.w);
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -218,7 +219,8 @@ vec3 normalMapped(SurfacePoint s, vec3 texel, float scale) {
 // A material's base colour, metallic, roughness and transmission at s, and its shading normal:
 // its factors, times its textures (glTF 2.0 section 3.9.2: baseColorTexture, sRGB;
 // metallicRoughnessTexture's blue and green channels, linear; normalTexture, linear,
-// normalMapped; KHR_materials_transmission's transmissionTexture, its red channel). The lookups
+// normalMapped; KHR_materials_transmission's transmissionTexture, its red channel), and its
+// coverage (alphaMode BLEND: Material::coverage times the base colour texture's alpha). The lookups
 // run in a loop over the textures the material has, not under one if per texture: lavapipe runs
 // both sides of an if whatever its lanes take, and a loop's body once (masked) and then only
 // while a lane is still in it, so every vector pays for one lookup and only vectors with two
@@ -230,6 +232,7 @@ struct MaterialSample {
     float roughness;
     float transmission;
     vec3 shadingNormal;
+    float coverage;  // 1 unless alphaMode BLEND
 };
 
 MaterialSample materialTextures(Material m, SurfacePoint s) {
@@ -239,6 +242,7 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     r.roughness = m.roughness;
     r.transmission = m.transmission;
     r.shadingNormal = s.shadingNormal;
+    float alpha = 1.0;
     int mrTexture = int(m.metallicRoughnessTexture) - 1;
     int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
     int transmissionTexture = int(m.transmissionTexture) - 1;
@@ -255,14 +259,15 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
                     : which == 1 ? mrTexture
                     : which == 2 ? normalTexture
                                  : transmissionTexture;
-        vec3 t = sampleTexture(index, s.uv, which == 0);
+        vec4 t = sampleTextureRgba(index, s.uv, which == 0);
         if (which == 0) {
-            r.baseColor *= t;
+            r.baseColor *= t.rgb;
+            alpha = t.a;
         } else if (which == 1) {
             r.metallic *= t.b;
             r.roughness *= t.g;
         } else if (which == 2) {
-            normalTexel = t;
+            normalTexel = t.rgb;
         } else {
             r.transmission *= t.r;
         }
@@ -270,6 +275,7 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     if (sceneHasNormalMaps() && normalTexture >= 0) {
         r.shadingNormal = normalMapped(s, normalTexel, m.normalScale);
     }
+    r.coverage = (m.flags & MATERIAL_BLEND) != 0u ? m.coverage * alpha : 1.0;
     return r;
 }
 

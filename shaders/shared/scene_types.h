@@ -108,13 +108,20 @@ PMCR_CHECK_SIZE(BvhQuery, 32);
 
 // Material flags.
 PMCR_CONST uint MATERIAL_DOUBLE_SIDED = 1u;   // emits from both faces; two-sided shading
+// Transmission is thin-walled (KHR_materials_transmission without KHR_materials_volume): the
+// glass lobe is a thin sheet, light leaves it where it entered (bsdf.glsl header).
+PMCR_CONST uint MATERIAL_THIN_WALLED = 2u;
+// alphaMode BLEND: coverage (alpha) = Material::coverage times the base colour texture's alpha;
+// the ray passes through with probability 1 - coverage (bsdf.glsl LOBE_PASS).
+PMCR_CONST uint MATERIAL_BLEND = 4u;
 
 // The glTF metallic-roughness model as pmcr interprets it (shaders/common/bsdf.glsl makeBsdf):
 // a mixture of up to three lobes with weights
 //   conductor  = metallic                         (GGX, Schlick F0 = baseColor; mirror at roughness 0)
 //   dielectric = (1 - metallic) * transmission    (smooth or GGX rough glass, tinted by baseColor)
 //   base       = (1 - metallic) * (1 - transmission):
-//                Lambertian when roughness == 1, else Lambertian under a GGX dielectric coat.
+//                Lambertian when roughness == 1, else Lambertian under a GGX dielectric coat,
+// all times the BLEND coverage, beside a pass-through delta of weight 1 - coverage.
 // Textures are numbered from 0 (baseColorTexture, -1 for none) or from 1 (the others, 0 for
 // none, so that a zero-initialised Material has none). All of a material's textures read the
 // same texture coordinates (the vertices' uv).
@@ -130,16 +137,16 @@ struct Material {
     // Absorption coefficient (per unit length) of the medium inside a transmissive material
     // (KHR_materials_volume: -ln(attenuationColor) / attenuationDistance; Beer-Lambert); 0: none.
     vec3 absorption;
-    // alphaMode MASK (and BLEND, rendered as MASK): the surface is cut away where the base
-    // colour texture's alpha is below alphaCutoff (alphaCutoff / baseColorFactor's alpha, so
-    // that it compares with the texture alone). 0: opaque. Applied in traversal (IsectTriangle).
+    // alphaMode MASK: the surface is cut away where the base colour texture's alpha is below
+    // alphaCutoff (alphaCutoff / baseColorFactor's alpha, so that it compares with the texture
+    // alone). 0: opaque. Applied in traversal (IsectTriangle).
     float alphaCutoff;
     uint metallicRoughnessTexture;  // index + 1, 0 for none (linear; blue metal, green rough)
     uint normalTexture;    // index + 1, 0 for none (tangent space, MikkTSpace convention)
     uint emissiveTexture;  // index + 1, 0 for none (sRGB; emission is multiplied by it)
     uint transmissionTexture;  // index + 1, 0 for none (linear; transmission times its red)
     float normalScale;     // normalTexture.scale: the tangent-space normal's x and y scale
-    uint pad0;
+    float coverage;        // alphaMode BLEND (MATERIAL_BLEND): baseColorFactor's alpha
     uint pad1;
     uint pad2;
 };

@@ -5,7 +5,7 @@
 //           results[2i] = (wi, pdf), results[2i + 1] = (f, ok + 2 delta + 4 lobe)
 //   mode 1: results[i] = (bsdfEval, bsdfPdf) at wo = inputs[2i].xyz, wi = inputs[2i + 1].xyz
 //   mode 2 (one invocation): results[0] = lobeSelectProbabilities(wo),
-//           results[1] = (fresnelDielectric(wo.z, eta), eta, bsdfHasNonDelta, 0)
+//           results[1] = (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -27,13 +27,15 @@ layout(push_constant, scalar) uniform Push {
     float transmission;
     float ior;
     vec3 wo;
+    uint thin;
+    float coverage;
 } push;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.count) return;
     Bsdf b = makeBsdf(push.baseColor, push.metallic, push.roughness, push.transmission, push.ior,
-                      push.frontSide != 0u);
+                      push.frontSide != 0u, push.thin != 0u, push.coverage);
     if (push.mode == 0u) {
         Rng rng = rngCreate(hashCombine(i, push.seed));
         float uLobe = rngNext(rng);
@@ -48,7 +50,7 @@ void main() {
         results[i] = vec4(bsdfEval(b, wo, wi), bsdfPdf(b, wo, wi));
     } else {
         results[0] = lobeSelectProbabilities(b, push.wo);
-        results[1] = vec4(fresnelDielectric(push.wo.z, b.eta), b.eta,
-                          bsdfHasNonDelta(b) ? 1.0 : 0.0, 0.0);
+        results[1] = vec4(dielectricReflectance(b, push.wo.z), b.eta,
+                          bsdfHasNonDelta(b) ? 1.0 : 0.0, b.wPass);
     }
 }

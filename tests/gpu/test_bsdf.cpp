@@ -8,7 +8,12 @@
 //   - the directional albedo (energy, transmission scaled back by eta^2) is at most 1, exactly 1
 //     for white smooth glass and the base colour for the Lambertian;
 //   - f is reciprocal for reflection and obeys f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2 for
-//     transmission (radiance convention).
+//     transmission (radiance convention; eta 1 through a thin sheet);
+//   - the thin sheet (thin-walled transmission) reflects R' = 2R / (1 + R) and transmits
+//     (1 - R) / (1 + R) of the light at every angle (the closed form of pbrt-v4's sum
+//     R + T^2 R / (1 - R^2) without absorption), and its rough form tends to it as alpha -> 0;
+//   - a BLEND material passes a share 1 - coverage straight through (a delta of eta 1) and
+//     scales its own lobes by the coverage.
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -37,12 +42,14 @@ struct BsdfPush {
     float transmission;
     float ior;
     glm::vec3 wo;
+    uint32_t thin;
+    float coverage;
 };
 
 enum BsdfMode : uint32_t { Sample = 0, Eval, Info };
 
 // bsdf.glsl lobe ids (LOBE_*).
-enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric };
+enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric, LobePass };
 
 struct MaterialCase {
     std::string name;
@@ -52,6 +59,8 @@ struct MaterialCase {
     float transmission;
     float ior;
     bool frontSide;
+    bool thin = false;      // thin-walled transmission
+    float coverage = 1.0f;  // alphaMode BLEND
 };
 
 const glm::vec3 kColour(0.8f, 0.5f, 0.3f);
@@ -76,6 +85,18 @@ const std::vector<MaterialCase>& materials() {
         {"metallic 0.5", kColour, 0.5f, 0.3f, 0, 1.5f, true},
         {"transmission 0.5", glm::vec3(0.9f, 0.8f, 0.7f), 0, 0.3f, 0.5f, 1.5f, true},
         {"transmission 0.5 smooth", glm::vec3(0.9f, 0.8f, 0.7f), 0, 0, 0.5f, 1.5f, true},
+        {"thin smooth front", kWhite, 0, 0, 1, 1.5f, true, true},
+        {"thin smooth back", kWhite, 0, 0, 1, 1.5f, false, true},
+        {"thin smooth tinted half", glm::vec3(0.9f, 0.8f, 0.7f), 0, 0, 0.5f, 1.33f, true, true},
+        {"thin 0.1", kWhite, 0, 0.1f, 1, 1.5f, true, true},
+        {"thin 0.4 back", kWhite, 0, 0.4f, 1, 1.5f, false, true},
+        {"thin 0.3 tinted", glm::vec3(0.9f, 0.8f, 0.7f), 0.2f, 0.3f, 0.7f, 1.5f, true, true},
+        {"blend diffuse", kColour, 0, 1, 0, 1.5f, true, false, 0.3f},
+        {"blend coat 0.3", kColour, 0, 0.3f, 0, 1.5f, true, false, 0.6f},
+        {"blend glass smooth", kWhite, 0, 0, 1, 1.5f, true, false, 0.3f},
+        {"blend glass 0.2 exiting", kWhite, 0, 0.2f, 1, 1.5f, false, false, 0.5f},
+        {"blend thin 0.3", kWhite, 0, 0.3f, 1, 1.5f, true, true, 0.4f},
+        {"blend transparent", kColour, 0, 0.5f, 0, 1.5f, true, false, 0.0f},
     };
     return cases;
 }
@@ -113,6 +134,8 @@ protected:
         p.transmission = m.transmission;
         p.ior = m.ior;
         p.wo = wo;
+        p.thin = m.thin ? 1u : 0u;
+        p.coverage = m.coverage;
         return p;
     }
     std::vector<BsdfSampleResult> sample(const MaterialCase& m, glm::vec3 wo, uint32_t n,
@@ -147,7 +170,7 @@ protected:
             return v;
         };
     }
-    // lobeSelectProbabilities(wo) and (fresnelDielectric(wo.z, eta), eta, bsdfHasNonDelta).
+    // lobeSelectProbabilities(wo) and (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass).
     std::pair<glm::vec4, glm::vec4> info(const MaterialCase& m, glm::vec3 wo) {
         auto unused = zeros(16);
         auto out = zeros(32, "bsdf info");
@@ -186,10 +209,13 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
     const auto [p, extra] = info(m, wo);
     const float fresnel = extra.x, eta = extra.y;
     const bool smooth = m.roughness * m.roughness < 1e-3f;  // bsdfSmooth: alpha < SMOOTH_ALPHA
+    EXPECT_NEAR(extra.w, 1.0 - m.coverage, 1e-6) << "wPass";
+    EXPECT_NEAR(p.x + p.y + p.z + p.w + extra.w, 1.0, 1e-5) << "lobe probabilities";
 
     // Discrete probabilities of the delta outcomes, from the lobe selection probabilities.
-    // Categories: coat mirror, conductor mirror, glass reflection, glass transmission.
-    double deltaExpected[4] = {0, 0, 0, 0};
+    // Categories: coat mirror, conductor mirror, glass reflection, glass transmission, pass.
+    constexpr int kCategories = 5;
+    double deltaExpected[kCategories] = {0, 0, 0, 0, extra.w};
     if (smooth) {
         deltaExpected[0] = p.y;
         deltaExpected[1] = p.z;
@@ -201,7 +227,7 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
         deltaTotal += d;
 
     const auto samples = sample(m, wo, n, seed);
-    double deltaObserved[4] = {0, 0, 0, 0};
+    double deltaObserved[kCategories] = {0, 0, 0, 0, 0};
     double failed = 0.0;
     glm::dvec3 energy(0.0), energySq(0.0);
     std::vector<glm::dvec3> directions;
@@ -218,15 +244,16 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
                     std::isfinite(s.f.z))
             << i;
         ASSERT_GE(std::min({s.f.x, s.f.y, s.f.z}), 0.0f) << i;
-        // Energy weight: f |cos| / pdf, transmission scaled back by eta^2 (radiance mode
-        // divides it by eta^2).
+        // Energy weight: f |cos| / pdf, refraction scaled back by eta^2 (radiance mode
+        // divides it by eta^2; a pass crosses no interface).
         glm::dvec3 w = glm::dvec3(s.f) * std::abs(double(s.wi.z)) / double(s.pdf);
-        if (s.wi.z < 0.0f)
+        if (s.wi.z < 0.0f && s.lobe() == LobeDielectric)
             w *= double(eta) * eta;
         energy += w;
         energySq += w * w;
         if (s.delta()) {
-            ASSERT_TRUE(smooth) << "delta sample from a rough material, lobe " << s.lobe();
+            ASSERT_TRUE(smooth || s.lobe() == LobePass)
+                << "delta sample from a rough material, lobe " << s.lobe();
             int category = -1;
             if (s.lobe() == LobeCoat)
                 category = 0;
@@ -234,9 +261,14 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
                 category = 1;
             if (s.lobe() == LobeDielectric)
                 category = s.wi.z > 0.0f ? 2 : 3;
+            if (s.lobe() == LobePass)
+                category = 4;
             ASSERT_GE(category, 0) << "delta sample of lobe " << s.lobe();
             ASSERT_NEAR(s.pdf, deltaExpected[category], 1e-5) << "discrete probability";
-            if (s.wi.z > 0.0f) {
+            if (category == 4 || (category == 3 && m.thin)) {
+                // Straight on: a pass, or through a thin sheet.
+                ASSERT_EQ(s.wi, -wo) << "straight through";
+            } else if (s.wi.z > 0.0f) {
                 ASSERT_EQ(s.wi, glm::vec3(-wo.x, -wo.y, wo.z)) << "mirror direction";
             } else {
                 // Snell's law in the plane of incidence, on the far side of the normal.
@@ -273,7 +305,7 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
     std::vector<double> observed = grid.histogram(directions);
     std::vector<double> expected = expectedCounts(grid, integrals, n, directions, pdfAt(m, wo));
     int categories = 0;
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < kCategories; ++c) {
         observed.push_back(deltaObserved[c]);
         expected.push_back(n * deltaExpected[c]);
         categories += deltaExpected[c] > 0.0 ? 1 : 0;
@@ -283,7 +315,7 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
         EXPECT_TRUE(chi2Passes(observed, expected, "bsdfSample " + what));
     } else {
         // One delta outcome only: every sample takes it.
-        for (int c = 0; c < 4; ++c)
+        for (int c = 0; c < kCategories; ++c)
             EXPECT_EQ(deltaObserved[c], n * deltaExpected[c]) << what;
     }
 
@@ -302,13 +334,24 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
         glm::sqrt(glm::max(energySq / double(n) - mean * mean, 0.0) / double(n));
     for (int c = 0; c < 3; ++c)
         EXPECT_LE(mean[c], 1.0 + 5.0 * stdError[c] + 1e-4) << what << " albedo channel " << c;
-    if (m.name.rfind("glass smooth", 0) == 0) {
+    // White furnace: smooth white glass, solid or thin, alone or under a BLEND pass, loses
+    // nothing.
+    if (m.name.rfind("glass smooth", 0) == 0 || m.name.rfind("thin smooth front", 0) == 0 ||
+        m.name.rfind("thin smooth back", 0) == 0 || m.name == "blend glass smooth" ||
+        m.name == "blend transparent") {
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(mean[c], 1.0, 1e-4) << what << " white glass";
     }
     if (m.name == "diffuse") {
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(mean[c], m.baseColor[c], 1e-4) << what;
+    }
+    if (m.name == "blend diffuse") {
+        // coverage * Lambertian albedo + (1 - coverage) passed on.
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(mean[c], m.coverage * m.baseColor[c] + (1 - m.coverage),
+                        5.0 * stdError[c] + 1e-4)
+                << what;
     }
 }
 
@@ -361,13 +404,70 @@ TEST_F(BsdfTest, Reciprocity) {
         if (m.transmission == 0.0f)
             continue;
         // Transmission from outside (eta 1) to inside (eta = ior) and back:
-        // f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2.
+        // f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2. A thin sheet has air on both sides.
         const auto in = eval(m, a, bLower, true), out = eval(m, bFlipped, aFlipped, false);
-        const float ior2 = m.ior * m.ior;
+        const float ior2 = m.thin ? 1.0f : m.ior * m.ior;
         for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c)
                 ASSERT_NEAR(in[i][c], out[i][c] / ior2, 2e-4f * std::max(in[i][c], 1.0f))
                     << "pair " << i;
+    }
+}
+
+// Unpolarised Fresnel reflectance of a dielectric interface from the side of index 1 (the
+// Fresnel equations, Hecht, Optics, 5th ed., sec. 4.6.2), in double precision.
+double fresnelReference(double cosI, double eta) {
+    const double sin2T = (1.0 - cosI * cosI) / (eta * eta);
+    const double cosT = std::sqrt(1.0 - sin2T);
+    const double parallel = (eta * cosI - cosT) / (eta * cosI + cosT);
+    const double perpendicular = (cosI - eta * cosT) / (cosI + eta * cosT);
+    return 0.5 * (parallel * parallel + perpendicular * perpendicular);
+}
+
+// The thin sheet against the closed form of its geometric series: with R the interface's
+// reflectance, the light reflected is R + T^2 R (1 + R^2 + R^4 + ...) = 2R / (1 + R) and the
+// light transmitted T^2 (1 + R^2 + ...) = (1 - R) / (1 + R) (T = 1 - R; pbrt-v4
+// ThinDielectricBxDF, PBR 4th ed. sec. 9.5.1), over angles from normal to grazing, seen from
+// either side; the transmitted and reflected shares of bsdfSample's weight follow it (within
+// their sampling error) for the smooth sheet, and within 0.5% more for a rough one of small
+// alpha (roughness 0.05: alpha 0.0025).
+TEST_F(BsdfTest, ThinSheetTransmittanceMatchesClosedForm) {
+    for (const float ior : {1.33f, 1.5f, 2.4f}) {
+        for (const bool front : {true, false}) {
+            const MaterialCase smooth{"thin", kWhite, 0, 0, 1, ior, front, true};
+            for (int k = 0; k < 24; ++k) {
+                const double cosO = 0.01 + 0.99 * k / 23.0;
+                const glm::vec3 wo = woAt(cosO);
+                const double R = fresnelReference(wo.z, ior);
+                const auto [p, extra] = info(smooth, wo);
+                EXPECT_NEAR(extra.x, 2.0 * R / (1.0 + R), 2e-6)
+                    << "ior " << ior << ", cos " << cosO << (front ? " front" : " back");
+                EXPECT_EQ(extra.y, 1.0f) << "a thin sheet keeps eta";
+            }
+        }
+        for (const auto& [roughness, tolerance] : {std::pair{0.0f, 0.0}, std::pair{0.05f, 5e-3}}) {
+            const MaterialCase m{"thin", kWhite, 0, roughness, 1, ior, true, true};
+            for (const double cosO : {0.95, 0.7, 0.4, 0.2}) {
+                const glm::vec3 wo = woAt(cosO);
+                const double R = fresnelReference(wo.z, ior);
+                const uint32_t n = 1 << 16;
+                const auto samples = sample(m, wo, n, 77);
+                double transmitted = 0.0, reflected = 0.0;
+                for (const BsdfSampleResult& s : samples) {
+                    if (!s.ok())
+                        continue;
+                    const double w = s.f.x * std::abs(double(s.wi.z)) / s.pdf;
+                    (s.wi.z < 0.0f ? transmitted : reflected) += w / n;
+                }
+                // Each sample carries a weight near 1, so the shares' sampling errors are
+                // those of a proportion: sqrt(T (1 - T) / n) < 2e-3.
+                const double sigma = std::sqrt(0.25 / n);
+                EXPECT_NEAR(transmitted, (1.0 - R) / (1.0 + R), tolerance + 5.0 * sigma)
+                    << "roughness " << roughness << ", ior " << ior << ", cos " << cosO;
+                EXPECT_NEAR(reflected, 2.0 * R / (1.0 + R), tolerance + 5.0 * sigma)
+                    << "roughness " << roughness << ", ior " << ior << ", cos " << cosO;
+            }
+        }
     }
 }
 
