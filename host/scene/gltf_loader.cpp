@@ -49,6 +49,7 @@ constexpr size_t kMaxMessage = 300;
 const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                     "KHR_materials_transmission",
                                                     "KHR_materials_ior", "KHR_materials_volume",
+                                                    "KHR_materials_specular",
                                                     "KHR_lights_punctual", "KHR_texture_transform",
                                                     "KHR_xmp"};  // metadata (authorship, licence)
 
@@ -752,23 +753,48 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         m.emission[c] = number(e * strength, "emission", 0, FLT_MAX);
     }
 
+    // An extension's texture (a textureInfo object, as tinygltf parses the core ones: index,
+    // texCoord, extensions): its index in Scene::textures + 1, 0 when absent or left out.
+    auto extensionTexture = [&](const tinygltf::Value& ext, const char* extensionName,
+                                const char* key) -> uint32_t {
+        if (!ext.Has(key)) return 0;
+        const tinygltf::Value& t = ext.Get(key);
+        if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsNumber())
+            error(label + ": " + extensionName + "." + key + " needs an index");
+        tinygltf::TextureInfo info;
+        info.index = int(t.Get("index").GetNumberAsDouble());
+        info.texCoord = int(member(t, key, "texCoord", 0.0));
+        if (t.Has("extensions") && t.Get("extensions").IsObject()) {
+            const tinygltf::Value& extensions = t.Get("extensions");
+            for (const std::string& k : extensions.Keys()) info.extensions[k] = extensions.Get(k);
+        }
+        return uint32_t(texture(info, key) + 1);
+    };
     if (const tinygltf::Value* ext = extension("KHR_materials_transmission")) {
         m.transmission = number(member(*ext, "KHR_materials_transmission", "transmissionFactor", 0),
                                 "transmissionFactor", 0, 1);
-        if (ext->Has("transmissionTexture")) {
-            // A textureInfo object, as tinygltf parses the core ones: index, texCoord, extensions.
-            const tinygltf::Value& t = ext->Get("transmissionTexture");
-            if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsNumber())
-                error(label + ": KHR_materials_transmission.transmissionTexture needs an index");
-            tinygltf::TextureInfo info;
-            info.index = int(t.Get("index").GetNumberAsDouble());
-            info.texCoord = int(member(t, "transmissionTexture", "texCoord", 0.0));
-            if (t.Has("extensions") && t.Get("extensions").IsObject()) {
-                const tinygltf::Value& extensions = t.Get("extensions");
-                for (const std::string& key : extensions.Keys()) info.extensions[key] = extensions.Get(key);
+        m.transmissionTexture = extensionTexture(*ext, "KHR_materials_transmission", "transmissionTexture");
+    }
+    // KHR_materials_specular: the strength (specularFactor times specularTexture's alpha) and
+    // F0 colour (specularColorFactor times specularColorTexture, sRGB) of the dielectric
+    // reflection (shaders/common/bsdf.glsl coatFresnel).
+    if (const tinygltf::Value* ext = extension("KHR_materials_specular")) {
+        m.flags |= gpu::MATERIAL_SPECULAR;
+        m.specular = float(number(member(*ext, "KHR_materials_specular", "specularFactor", 1.0),
+                                  "specularFactor", 0, 1));
+        m.specularColor = glm::vec3(1.0f);
+        if (ext->Has("specularColorFactor")) {
+            const tinygltf::Value& value = ext->Get("specularColorFactor");
+            if (!value.IsArray() || value.ArrayLen() != 3)
+                error(label + ": KHR_materials_specular.specularColorFactor needs 3 numbers");
+            for (int c = 0; c < 3; ++c) {
+                const tinygltf::Value& v = value.Get(c);
+                if (!v.IsNumber()) error(label + ": specularColorFactor must hold numbers");
+                m.specularColor[c] = float(number(v.GetNumberAsDouble(), "specularColorFactor", 0, 1e6));
             }
-            m.transmissionTexture = uint32_t(texture(info, "transmissionTexture") + 1);
         }
+        m.specularTexture = extensionTexture(*ext, "KHR_materials_specular", "specularTexture");
+        m.specularColorTexture = extensionTexture(*ext, "KHR_materials_specular", "specularColorTexture");
     }
     m.ior = 1.5f;
     if (const tinygltf::Value* ext = extension("KHR_materials_ior")) {

@@ -7,7 +7,10 @@
 //   base        weight (1 - metallic)(1 - transmission)
 //       roughness == 1: Lambertian baseColor / pi
 //       roughness  < 1: GGX dielectric coat (ior) over a Lambertian base attenuated by
-//                       (1 - F(cos_i))(1 - F(cos_o)), which keeps it reciprocal and below 1.
+//                       (1 - F(cos_i))(1 - F(cos_o)), which keeps it reciprocal and below 1;
+//                       KHR_materials_specular weights and tints the coat's F (coatFresnel)
+//                       and the base is attenuated by its largest channel, as the extension's
+//                       fresnel_mix does with max_value(fr)
 // all three times the coverage a (alphaMode BLEND; 1 otherwise), and
 //   pass        weight 1 - a                           a delta: the ray goes on unchanged.
 // BLEND is thus the mixture a * surface + (1 - a) * nothing (Mitsuba 3's `mask` BSDF): a pass
@@ -58,6 +61,9 @@ struct Bsdf {
     float eta;           // eta(wi side) / eta(wo side) for transmission (see header)
     bool coated;         // base lobe has the dielectric coat (roughness < 1)
     bool thin;           // the dielectric lobe is a thin sheet (eta is then 1)
+    bool specularTinted; // KHR_materials_specular: the coat's F is weighted and tinted (coatFresnel)
+    vec3 specularColor;  // its specularColorFactor times specularColorTexture
+    float specularWeight;  // its specularFactor times specularTexture's alpha
     float wPass;         // 1 - coverage (alphaMode BLEND): weight of the pass-through delta
 };
 
@@ -86,6 +92,9 @@ Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float transmissio
     b.wPass = 1.0 - a;
     b.ior = max(ior, 1.0);
     b.thin = thin;
+    b.specularTinted = false;
+    b.specularColor = vec3(1.0);
+    b.specularWeight = 1.0;
     b.eta = thin ? 1.0 : frontSide ? b.ior : 1.0 / b.ior;
     b.coated = roughness < 1.0;
     return b;
@@ -120,15 +129,47 @@ bool bsdfHasNonDelta(Bsdf b) {
     return !bsdfSmooth(b) && (b.wConductor > 0.0 || b.wDielectric > 0.0);
 }
 
+// KHR_materials_specular on a material made by makeBsdf: specularFactor (times its texture's
+// alpha) and specularColorFactor (times its texture).
+void bsdfSetSpecular(inout Bsdf b, float weight, vec3 color) {
+    b.specularTinted = true;
+    b.specularWeight = clamp(weight, 0.0, 1.0);
+    b.specularColor = max(color, vec3(0.0));
+}
+
+// The coat's Fresnel reflectance at cosTheta, per channel: the dielectric's F(ior), or under
+// KHR_materials_specular its fresnel_mix form, weight * (f0 + (1 - f0) w) with
+// f0 = min(F0(ior) * specularColor, 1) (the extension's dielectric_f0: tinted at normal
+// incidence, white at grazing), where pmcr takes the rise w from F itself,
+// w = (F - F0) / (1 - F0), in place of Schlick's (1 - cos)^5, so that weight 1 and colour 1 give
+// F exactly.
+vec3 coatFresnel(Bsdf b, float cosTheta) {
+    float F = fresnelDielectric(cosTheta, b.ior);
+    if (!b.specularTinted) return vec3(F);
+    float F0 = sqr((b.ior - 1.0) / (b.ior + 1.0));
+    float w = F0 < 1.0 ? clamp((F - F0) / (1.0 - F0), 0.0, 1.0) : 1.0;
+    vec3 f0 = min(F0 * b.specularColor, vec3(1.0));
+    return b.specularWeight * (f0 + (1.0 - f0) * w);
+}
+
+// The share of light the coat takes from the base at cosTheta: F, or the largest channel of the
+// tinted F (the extension's max_value(fr)), so no channel of base and coat exceeds 1.
+float coatReflectance(Bsdf b, float cosTheta) {
+    return maxComponent(coatFresnel(b, cosTheta));
+}
+
 // Probability of sampling the coat (rather than the diffuse base) inside the base lobe: its share
-// of the expected reflectance seen from wo.
-float coatSelectProbabilityFromFresnel(Bsdf b, float fr) {
+// of the expected reflectance seen from wo (fr = coatReflectance, frLum its luminance; equal
+// without KHR_materials_specular).
+float coatSelectProbabilityFromFresnel(Bsdf b, float fr, float frLum) {
     float diffuse = (1.0 - fr) * luminance(b.baseColor);
-    return fr / (fr + diffuse);
+    return frLum / (frLum + diffuse);
 }
 
 float coatSelectProbability(Bsdf b, float cosThetaO) {
-    return coatSelectProbabilityFromFresnel(b, fresnelDielectric(cosThetaO, b.ior));
+    vec3 fc = coatFresnel(b, cosThetaO);
+    return coatSelectProbabilityFromFresnel(b, maxComponent(fc),
+                                            b.specularTinted ? luminance(fc) : fc.x);
 }
 
 // Lobe selection probabilities (diffuse, coat, conductor, dielectric) for a given wo.
@@ -141,13 +182,13 @@ vec4 lobeSelectProbabilities(Bsdf b, vec3 wo) {
 
 vec3 evalCoat(Bsdf b, vec3 wo, vec3 wi) {
     if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);
-    vec3 diffuse = b.baseColor * INV_PI * (1.0 - fresnelDielectric(wi.z, b.ior)) *
-                   (1.0 - fresnelDielectric(wo.z, b.ior));
+    vec3 diffuse = b.baseColor * INV_PI * (1.0 - coatReflectance(b, wi.z)) *
+                   (1.0 - coatReflectance(b, wo.z));
     if (bsdfSmooth(b)) return diffuse;
     vec3 m = normalize(wo + wi);
-    float spec = ggxD(m, b.alpha) * ggxG2(wo, wi, b.alpha) * fresnelDielectric(dot(wo, m), b.ior) /
-                 (4.0 * wo.z * wi.z);
-    return diffuse + vec3(spec);
+    vec3 spec = ggxD(m, b.alpha) * ggxG2(wo, wi, b.alpha) * coatFresnel(b, dot(wo, m)) /
+                (4.0 * wo.z * wi.z);
+    return diffuse + spec;
 }
 
 float pdfCoatSpecular(Bsdf b, vec3 wo, vec3 wi) {
@@ -256,8 +297,11 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
     pdf = 0.0;
     if (wo.z <= 0.0) return vec3(0.0);
     const bool rough = !bsdfSmooth(b);
-    float fresnelO = b.coated ? fresnelDielectric(wo.z, b.ior) : 0.0;
-    float pCoat = b.coated ? coatSelectProbabilityFromFresnel(b, fresnelO) : 0.0;
+    vec3 coatO = b.coated ? coatFresnel(b, wo.z) : vec3(0.0);
+    float fresnelO = maxComponent(coatO);
+    float pCoat = b.coated ? coatSelectProbabilityFromFresnel(
+                                 b, fresnelO, b.specularTinted ? luminance(coatO) : coatO.x)
+                           : 0.0;
     vec4 p = vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric);
     // Smith masking of wo and wi (Heitz 2014): G1(wo) = 1 / (1 + L(wo)), G2 = 1 / (1 + L(wo) + L(wi)).
     float lambdaO = rough ? ggxLambda(wo, b.alpha) : 0.0;
@@ -282,9 +326,9 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
         if (b.coated) {
             // evalCoat
             if (wi.z > 0.0) {
-                vec3 coat = b.baseColor * INV_PI * (1.0 - fresnelDielectric(wi.z, b.ior)) * (1.0 - fresnelO);
+                vec3 coat = b.baseColor * INV_PI * (1.0 - coatReflectance(b, wi.z)) * (1.0 - fresnelO);
                 if (rough)
-                    coat += vec3(dR * G2 * fresnelDielectric(dot(wo, mR), b.ior) / (4.0 * wo.z * wi.z));
+                    coat += dR * G2 * coatFresnel(b, dot(wo, mR)) / (4.0 * wo.z * wi.z);
                 f += b.wBase * coat;
             }
         } else if (wi.z > 0.0) {
@@ -343,7 +387,7 @@ bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out ve
     }
     if (!bsdfSmooth(b)) return false;
     if (lobe == LOBE_COAT && !transmit && b.wBase > 0.0 && b.coated) {
-        weight = vec3(b.wBase * fresnelDielectric(wo.z, b.ior));
+        weight = b.wBase * coatFresnel(b, wo.z);
     } else if (lobe == LOBE_CONDUCTOR && !transmit && b.wConductor > 0.0) {
         weight = b.wConductor * fresnelSchlick(b.baseColor, wo.z);
     } else if (lobe == LOBE_DIELECTRIC && b.wDielectric > 0.0) {

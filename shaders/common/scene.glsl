@@ -48,9 +48,10 @@ Material materialAt(uint i) {
     vec4 d = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 3u)));
     uvec4 e = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 4u));
     uvec4 f = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 5u));
+    vec4 g = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 6u)));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
                     c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x),
-                    uintBitsToFloat(f.y), f.z, f.w);
+                    uintBitsToFloat(f.y), f.z, f.w, g.xyz, g.w);
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -233,6 +234,8 @@ struct MaterialSample {
     float transmission;
     vec3 shadingNormal;
     float coverage;  // 1 unless alphaMode BLEND
+    float specular;        // KHR_materials_specular (MATERIAL_SPECULAR): weight and F0 tint,
+    vec3 specularColor;    // times their textures
 };
 
 MaterialSample materialTextures(Material m, SurfacePoint s) {
@@ -242,14 +245,19 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     r.roughness = m.roughness;
     r.transmission = m.transmission;
     r.shadingNormal = s.shadingNormal;
+    r.specular = m.specular;
+    r.specularColor = m.specularColor;
     float alpha = 1.0;
     int mrTexture = int(m.metallicRoughnessTexture) - 1;
     int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
     int transmissionTexture = int(m.transmissionTexture) - 1;
+    int specularTexture = int(m.specularTexture) - 1;
+    int specularColorTexture = int(m.specularColorTexture) - 1;
     // Bit w set: the material has texture kind w (0 base colour, 1 metallicRoughness, 2 normal,
-    // 3 transmission); each pass takes the lowest kind left.
+    // 3 transmission, 4 specular, 5 specular colour); each pass takes the lowest kind left.
     uint left = (m.baseColorTexture >= 0 ? 1u : 0u) | (mrTexture >= 0 ? 2u : 0u) |
-                (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u);
+                (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u) |
+                (specularTexture >= 0 ? 16u : 0u) | (specularColorTexture >= 0 ? 32u : 0u);
     int count = bitCount(left);
     vec3 normalTexel = vec3(0.5, 0.5, 1.0);
     for (int k = 0; k < count; ++k) {
@@ -258,8 +266,10 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
         int index = which == 0   ? m.baseColorTexture
                     : which == 1 ? mrTexture
                     : which == 2 ? normalTexture
-                                 : transmissionTexture;
-        vec4 t = sampleTextureRgba(index, s.uv, which == 0);
+                    : which == 3 ? transmissionTexture
+                    : which == 4 ? specularTexture
+                                 : specularColorTexture;
+        vec4 t = sampleTextureRgba(index, s.uv, which == 0 || which == 5);
         if (which == 0) {
             r.baseColor *= t.rgb;
             alpha = t.a;
@@ -268,8 +278,12 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
             r.roughness *= t.g;
         } else if (which == 2) {
             normalTexel = t.rgb;
-        } else {
+        } else if (which == 3) {
             r.transmission *= t.r;
+        } else if (which == 4) {
+            r.specular *= t.a;
+        } else {
+            r.specularColor *= t.rgb;
         }
     }
     if (sceneHasNormalMaps() && normalTexture >= 0) {

@@ -114,6 +114,9 @@ PMCR_CONST uint MATERIAL_THIN_WALLED = 2u;
 // alphaMode BLEND: coverage (alpha) = Material::coverage times the base colour texture's alpha;
 // the ray passes through with probability 1 - coverage (bsdf.glsl LOBE_PASS).
 PMCR_CONST uint MATERIAL_BLEND = 4u;
+// KHR_materials_specular: the coat's Fresnel is weighted by `specular` and its F0 tinted by
+// `specularColor` (bsdf.glsl coatFresnel); without the flag both are ignored (and may be 0).
+PMCR_CONST uint MATERIAL_SPECULAR = 8u;
 
 // The glTF metallic-roughness model as pmcr interprets it (shaders/common/bsdf.glsl makeBsdf):
 // a mixture of up to three lobes with weights
@@ -147,11 +150,13 @@ struct Material {
     uint transmissionTexture;  // index + 1, 0 for none (linear; transmission times its red)
     float normalScale;     // normalTexture.scale: the tangent-space normal's x and y scale
     float coverage;        // alphaMode BLEND (MATERIAL_BLEND): baseColorFactor's alpha
-    uint pad1;
-    uint pad2;
+    uint specularTexture;  // index + 1, 0 for none (KHR_materials_specular; its alpha, linear)
+    uint specularColorTexture;  // index + 1, 0 for none (sRGB; specularColor times its rgb)
+    vec3 specularColor;    // KHR_materials_specular specularColorFactor (MATERIAL_SPECULAR)
+    float specular;        // its specularFactor
 };
-PMCR_CHECK_SIZE(Material, 96);
-PMCR_CONST uint MATERIAL_TEXELS = 6;
+PMCR_CHECK_SIZE(Material, 112);
+PMCR_CONST uint MATERIAL_TEXELS = 7;
 // Below this GGX alpha (roughness^2) a lobe is perfectly smooth, a delta, as pbrt-v4 does.
 PMCR_CONST float SMOOTH_ALPHA = 1e-3f;
 

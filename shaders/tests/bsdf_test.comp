@@ -29,6 +29,8 @@ layout(push_constant, scalar) uniform Push {
     vec3 wo;
     uint thin;
     float coverage;
+    float specularWeight;  // KHR_materials_specular; negative: none
+    vec3 specularColor;
 } push;
 
 void main() {
@@ -36,6 +38,7 @@ void main() {
     if (i >= push.count) return;
     Bsdf b = makeBsdf(push.baseColor, push.metallic, push.roughness, push.transmission, push.ior,
                       push.frontSide != 0u, push.thin != 0u, push.coverage);
+    if (push.specularWeight >= 0.0) bsdfSetSpecular(b, push.specularWeight, push.specularColor);
     if (push.mode == 0u) {
         Rng rng = rngCreate(hashCombine(i, push.seed));
         float uLobe = rngNext(rng);

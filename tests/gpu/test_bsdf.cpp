@@ -44,6 +44,8 @@ struct BsdfPush {
     glm::vec3 wo;
     uint32_t thin;
     float coverage;
+    float specularWeight;
+    glm::vec3 specularColor;
 };
 
 enum BsdfMode : uint32_t { Sample = 0, Eval, Info };
@@ -61,6 +63,8 @@ struct MaterialCase {
     bool frontSide;
     bool thin = false;      // thin-walled transmission
     float coverage = 1.0f;  // alphaMode BLEND
+    float specular = -1.0f;  // KHR_materials_specular's weight (negative: no extension)
+    glm::vec3 specularColor = glm::vec3(1.0f);
 };
 
 const glm::vec3 kColour(0.8f, 0.5f, 0.3f);
@@ -97,6 +101,10 @@ const std::vector<MaterialCase>& materials() {
         {"blend glass 0.2 exiting", kWhite, 0, 0.2f, 1, 1.5f, false, false, 0.5f},
         {"blend thin 0.3", kWhite, 0, 0.3f, 1, 1.5f, true, true, 0.4f},
         {"blend transparent", kColour, 0, 0.5f, 0, 1.5f, true, false, 0.0f},
+        {"specular smooth", kColour, 0, 0, 0, 1.5f, true, false, 1, 0.7f, glm::vec3(1.0f, 0.5f, 0.2f)},
+        {"specular 0.3", kColour, 0, 0.3f, 0, 1.5f, true, false, 1, 0.7f, glm::vec3(1.0f, 0.5f, 0.2f)},
+        {"specular bright 0.2", kWhite, 0, 0.2f, 0, 1.5f, true, false, 1, 1.0f, glm::vec3(8.0f, 1.0f, 0.0f)},
+        {"specular off 0.5", kColour, 0.3f, 0.5f, 0.2f, 1.5f, true, false, 1, 0.0f, glm::vec3(1.0f)},
     };
     return cases;
 }
@@ -136,6 +144,8 @@ protected:
         p.wo = wo;
         p.thin = m.thin ? 1u : 0u;
         p.coverage = m.coverage;
+        p.specularWeight = m.specular;
+        p.specularColor = m.specularColor;
         return p;
     }
     std::vector<BsdfSampleResult> sample(const MaterialCase& m, glm::vec3 wo, uint32_t n,
@@ -422,6 +432,43 @@ double fresnelReference(double cosI, double eta) {
     const double parallel = (eta * cosI - cosT) / (eta * cosI + cosT);
     const double perpendicular = (cosI - eta * cosT) / (cosI + eta * cosT);
     return 0.5 * (parallel * parallel + perpendicular * perpendicular);
+}
+
+// KHR_materials_specular on the smooth coat: the mirror's weight f |cos| (of the coat's delta
+// sample) is specular * (f0 + (1 - f0) w), f0 = min(F0 * colour, 1), w = (F - F0) / (1 - F0)
+// (bsdf.glsl coatFresnel; the extension's fresnel_mix with F's own rise), at angles from normal
+// to grazing; weight 1 and colour 1 give F itself, and the Lambertian base keeps
+// (1 - max channel)^2 of its light at normal incidence (the extension's max_value(fr)).
+TEST_F(BsdfTest, SpecularExtensionWeightsAndTintsTheCoat) {
+    const double ior = 1.5, F0 = 0.04;
+    for (const auto& [weight, colour] :
+         {std::pair{1.0f, glm::vec3(1.0f)}, std::pair{0.6f, glm::vec3(1.0f, 0.5f, 0.25f)},
+          std::pair{1.0f, glm::vec3(30.0f, 1.0f, 0.0f)}}) {
+        const MaterialCase m{"specular", kColour, 0, 0, 0, float(ior), true, false, 1, weight, colour};
+        for (const double cosO : {1.0, 0.8, 0.5, 0.2, 0.05}) {
+            const glm::vec3 wo = woAt(cosO);
+            const double F = fresnelReference(wo.z, ior);
+            const double w = (F - F0) / (1.0 - F0);
+            const auto samples = sample(m, wo, 4096, 5);
+            int mirrors = 0;
+            for (const BsdfSampleResult& s : samples) {
+                if (!s.ok() || !s.delta() || s.lobe() != LobeCoat) continue;
+                ++mirrors;
+                for (int c = 0; c < 3; ++c) {
+                    const double f0 = std::min(F0 * colour[c], 1.0);
+                    ASSERT_NEAR(s.f[c] * wo.z, weight * (f0 + (1.0 - f0) * w), 2e-5)
+                        << "weight " << weight << ", cos " << cosO << ", channel " << c;
+                }
+            }
+            EXPECT_GT(mirrors, 0) << "cos " << cosO;
+        }
+        // The base at normal incidence in and out: baseColor / pi (1 - max Fc(1))^2.
+        const glm::vec3 n(0, 0, 1);
+        const auto v = eval(m, {n}, {n}, true);
+        const double fc = weight * std::min(std::max({F0 * colour.x, F0 * colour.y, F0 * colour.z}), 1.0);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(v[0][c], kColour[c] / kPi * (1 - fc) * (1 - fc), 1e-5) << "channel " << c;
+    }
 }
 
 // The thin sheet against the closed form of its geometric series: with R the interface's

@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/gtc/constants.hpp>
@@ -840,6 +841,72 @@ TEST(GltfLoader, NormalEmissiveAndAlphaTextures) {
         EXPECT_FLOAT_EQ(t.e2.w, 0.5f);
     }
     EXPECT_EQ(marked, 1);
+}
+
+// KHR_materials_specular: its factors (defaults 1 and white) and its two textures, flagged;
+// a material without it unflagged; BLEND with a base colour texture: coverage from the factor,
+// the texture's alpha read in shading, nothing cut in the BVH; bad values fail with one line.
+TEST(GltfLoader, SpecularExtensionAndTexturedBlend) {
+    GltfBuilder b;
+    b.addLight();
+    b.useExtension("KHR_materials_specular");
+    b.push("images", {{"uri", "data:image/bmp;base64," + base64(tinyBmp())}});
+    b.push("textures", {{"source", 0}});
+    const int tinted = b.material(
+        {{"name", "Tinted"},
+         {"pbrMetallicRoughness", {{"roughnessFactor", 0.3}}},
+         {"extensions",
+          {{"KHR_materials_specular",
+            {{"specularFactor", 0.6},
+             {"specularColorFactor", {1.0, 0.5, 2.0}},
+             {"specularTexture", {{"index", 0}}},
+             {"specularColorTexture", {{"index", 0}}}}}}}});
+    const int plain = b.material({{"name", "Plain"}, {"extensions", {{"KHR_materials_specular", json::object()}}}});
+    const int veil = b.material({{"name", "Veil"},
+                                 {"alphaMode", "BLEND"},
+                                 {"pbrMetallicRoughness",
+                                  {{"baseColorFactor", {1.0, 1.0, 1.0, 0.5}}, {"baseColorTexture", {{"index", 0}}}}}});
+    for (int m : {tinted, plain, veil}) {
+        const json primitive = {{"attributes",
+                                 {{"POSITION", b.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})},
+                                  {"TEXCOORD_0", b.vec2s({{0, 1}, {1, 1}, {0, 0}})}}},
+                                {"material", m}};
+        b.node({{"mesh", b.mesh(primitive)}});
+    }
+    std::string warnings;
+    const Scene s = loadQuietly(b.writeGltf(test::tempDir("specular"), "specular"), &warnings);
+    EXPECT_EQ(countOf(warnings, "ignored"), 0u) << warnings;
+    EXPECT_EQ(countOf(warnings, "BLEND"), 0u) << warnings;
+    const gpu::Material& t = s.materials[size_t(tinted)];
+    EXPECT_EQ(t.flags & gpu::MATERIAL_SPECULAR, gpu::MATERIAL_SPECULAR);
+    EXPECT_FLOAT_EQ(t.specular, 0.6f);
+    EXPECT_EQ(t.specularColor, glm::vec3(1.0f, 0.5f, 2.0f));
+    EXPECT_EQ(t.specularTexture, 1u);
+    EXPECT_EQ(t.specularColorTexture, 1u);
+    const gpu::Material& p = s.materials[size_t(plain)];
+    EXPECT_EQ(p.flags & gpu::MATERIAL_SPECULAR, gpu::MATERIAL_SPECULAR);
+    EXPECT_FLOAT_EQ(p.specular, 1.0f);
+    EXPECT_EQ(p.specularColor, glm::vec3(1.0f));
+    EXPECT_EQ(p.specularTexture, 0u);
+    EXPECT_EQ(s.materials[0].flags & gpu::MATERIAL_SPECULAR, 0u);  // the light's
+    const gpu::Material& v = s.materials[size_t(veil)];
+    EXPECT_EQ(v.flags & gpu::MATERIAL_BLEND, gpu::MATERIAL_BLEND);
+    EXPECT_FLOAT_EQ(v.coverage, 0.5f);
+    EXPECT_EQ(v.baseColorTexture, 0);
+    EXPECT_FLOAT_EQ(v.alphaCutoff, 0.0f);
+    EXPECT_EQ(sceneFeatures(s) & gpu::SCENE_FEATURE_ALPHA_MASKS, 0u);
+
+    const fs::path dir = test::tempDir("specular-errors");
+    for (const auto& [key, value, what] :
+         {std::tuple{"specularFactor", json(1.5), "specularFactor"},
+          std::tuple{"specularColorFactor", json({1.0, -1.0, 1.0}), "specularColorFactor"},
+          std::tuple{"specularColorFactor", json({1.0, 1.0}), "specularColorFactor"},
+          std::tuple{"specularTexture", json({{"index", 7}}), "specularTexture"}}) {
+        GltfBuilder e = basicScene();
+        e.useExtension("KHR_materials_specular");
+        e.doc["materials"][0]["extensions"]["KHR_materials_specular"][key] = value;
+        expectLoadError(e.writeGltf(dir, "bad"), what);
+    }
 }
 
 TEST(GltfLoader, DecodesSixteenBitGreyTextureFromBufferView) {
