@@ -49,7 +49,7 @@ constexpr size_t kMaxMessage = 300;
 const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                     "KHR_materials_transmission",
                                                     "KHR_materials_ior", "KHR_materials_volume",
-                                                    "KHR_materials_specular",
+                                                    "KHR_materials_specular", "KHR_materials_clearcoat",
                                                     "KHR_lights_punctual", "KHR_texture_transform",
                                                     "KHR_xmp"};  // metadata (authorship, licence)
 
@@ -795,6 +795,25 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         }
         m.specularTexture = extensionTexture(*ext, "KHR_materials_specular", "specularTexture");
         m.specularColorTexture = extensionTexture(*ext, "KHR_materials_specular", "specularColorTexture");
+    }
+    // KHR_materials_clearcoat: a GGX coat of ior 1.5 over the material (shaders/common/bsdf.glsl
+    // LOBE_CLEARCOAT): its factor (times clearcoatTexture's red) and roughness (times
+    // clearcoatRoughnessTexture's green). The coat shares the material's shading normal.
+    if (const tinygltf::Value* ext = extension("KHR_materials_clearcoat")) {
+        m.clearcoat = float(number(member(*ext, "KHR_materials_clearcoat", "clearcoatFactor", 0.0),
+                                   "clearcoatFactor", 0, 1));
+        m.clearcoatRoughness =
+            float(number(member(*ext, "KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0),
+                         "clearcoatRoughnessFactor", 0, 1));
+        m.clearcoatTexture = extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatTexture");
+        m.clearcoatRoughnessTexture =
+            extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatRoughnessTexture");
+        if (ext->Has("clearcoatNormalTexture")) {
+            ignoreFor("KHR_materials_clearcoat.clearcoatNormalTexture is ignored (the coat takes "
+                      "the material's shading normal)",
+                      name);
+        }
+        if (m.clearcoat == 0.0f) m.clearcoatTexture = 0;  // no coat, whatever the texture
     }
     m.ior = 1.5f;
     if (const tinygltf::Value* ext = extension("KHR_materials_ior")) {

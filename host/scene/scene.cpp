@@ -34,9 +34,13 @@ bool isFinite(const glm::vec3& v) {
 
 // Whether material m has a GGX lobe (shaders/common/bsdf.glsl makeBsdf): its alpha = roughness^2
 // is not below SMOOTH_ALPHA (or a texture may make it so) and it has a conductor, glass, or
-// coated base part (the base is Lambertian alone at roughness 1).
+// coated base part (the base is Lambertian alone at roughness 1), or a rough clear coat.
 bool hasGlossyLobe(const gpu::Material& m) {
     if (m.metallicRoughnessTexture != 0) return true;
+    // A rough clear coat (KHR_materials_clearcoat), or one a texture may make rough.
+    if (m.clearcoat > 0.0f && (m.clearcoatRoughnessTexture != 0 ||
+                               m.clearcoatRoughness * m.clearcoatRoughness >= gpu::SMOOTH_ALPHA))
+        return true;
     if (m.roughness * m.roughness < gpu::SMOOTH_ALPHA) return false;
     return m.metallic > 0.0f || m.transmission > 0.0f || m.roughness < 1.0f;
 }

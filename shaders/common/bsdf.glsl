@@ -11,7 +11,12 @@
 //                       KHR_materials_specular weights and tints the coat's F (coatFresnel)
 //                       and the base is attenuated by its largest channel, as the extension's
 //                       fresnel_mix does with max_value(fr)
-// all three times the coverage a (alphaMode BLEND; 1 otherwise), and
+// under a clear coat (KHR_materials_clearcoat, factor c, its own GGX roughness, ior 1.5, on the
+// front face only): the coat reflects c F_c(wo.m) D G / (4 cos cos) (LOBE_CLEARCOAT) and every
+// lobe below is attenuated by (1 - c F_c(cos)) for each of wo and wi that lies on the front
+// (the extension's fresnel_coat, taken at both ends as the dielectric coat above does, so
+// that it stays reciprocal; a transmission crosses the coat once),
+// all of it times the coverage a (alphaMode BLEND; 1 otherwise), and
 //   pass        weight 1 - a                           a delta: the ray goes on unchanged.
 // BLEND is thus the mixture a * surface + (1 - a) * nothing (Mitsuba 3's `mask` BSDF): a pass
 // is a specular transmission vertex with eta 1, which every method already handles (path
@@ -50,6 +55,8 @@ const uint LOBE_COAT = 2u;        // GGX (or smooth) dielectric coat reflection 
 const uint LOBE_CONDUCTOR = 3u;
 const uint LOBE_DIELECTRIC = 4u;  // reflection or transmission of the glass lobe
 const uint LOBE_PASS = 5u;        // BLEND coverage: the ray passes on unchanged (a delta)
+const uint LOBE_CLEARCOAT = 6u;   // KHR_materials_clearcoat's reflection (smooth: a delta)
+const float CLEARCOAT_IOR = 1.5;  // the extension's fixed coat (F0 0.04)
 
 struct Bsdf {
     vec3 baseColor;
@@ -64,6 +71,9 @@ struct Bsdf {
     bool specularTinted; // KHR_materials_specular: the coat's F is weighted and tinted (coatFresnel)
     vec3 specularColor;  // its specularColorFactor times specularColorTexture
     float specularWeight;  // its specularFactor times specularTexture's alpha
+    float clearcoat;     // KHR_materials_clearcoat factor (0: none; bsdfSetClearcoat)
+    float clearcoatAlpha;  // its GGX alpha = clearcoatRoughness^2
+    bool clearcoatFront;   // wo is on the coated (front) side
     float wPass;         // 1 - coverage (alphaMode BLEND): weight of the pass-through delta
 };
 
@@ -95,6 +105,9 @@ Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float transmissio
     b.specularTinted = false;
     b.specularColor = vec3(1.0);
     b.specularWeight = 1.0;
+    b.clearcoat = 0.0;
+    b.clearcoatAlpha = 0.0;
+    b.clearcoatFront = frontSide;
     b.eta = thin ? 1.0 : frontSide ? b.ior : 1.0 / b.ior;
     b.coated = roughness < 1.0;
     return b;
@@ -125,7 +138,10 @@ bool bsdfSmooth(Bsdf b) { return b.alpha < SMOOTH_ALPHA; }
 
 // True when some lobe is not a delta, i.e. light sampling can contribute.
 bool bsdfHasNonDelta(Bsdf b) {
-    if (b.wBase > 0.0) return true;  // (zero at coverage 0: a pass only)  // the Lambertian part is never a delta
+    if (b.wBase > 0.0) return true;  // the Lambertian part is never a delta (0 at coverage 0)
+    // A rough clear coat (its alpha not below SMOOTH_ALPHA, clearcoatSmooth) on the side seen.
+    if (b.clearcoat > 0.0 && b.clearcoatFront && b.clearcoatAlpha >= SMOOTH_ALPHA && b.wPass < 1.0)
+        return true;
     return !bsdfSmooth(b) && (b.wConductor > 0.0 || b.wDielectric > 0.0);
 }
 
@@ -136,6 +152,35 @@ void bsdfSetSpecular(inout Bsdf b, float weight, vec3 color) {
     b.specularWeight = clamp(weight, 0.0, 1.0);
     b.specularColor = max(color, vec3(0.0));
 }
+
+// KHR_materials_clearcoat on a material made by makeBsdf: clearcoatFactor and roughness (times
+// their textures).
+void bsdfSetClearcoat(inout Bsdf b, float factor, float roughness) {
+    b.clearcoat = clamp(factor, 0.0, 1.0);
+    b.clearcoatAlpha = sqr(clamp(roughness, 0.0, 1.0));
+}
+
+bool clearcoatSmooth(Bsdf b) { return b.clearcoatAlpha < SMOOTH_ALPHA; }
+
+// The share of light at w the clear coat leaves to the lobes below: 1 - c F_c(|cos|) when w is
+// on the coated side, else 1 (the coat is crossed once by a transmission).
+float clearcoatAttenuation(Bsdf b, vec3 w) {
+    if (b.clearcoat <= 0.0) return 1.0;
+    bool coatedSide = b.clearcoatFront ? w.z > 0.0 : w.z < 0.0;
+    return coatedSide ? 1.0 - b.clearcoat * fresnelDielectric(abs(w.z), CLEARCOAT_IOR) : 1.0;
+}
+
+// Probability of sampling the clear coat (rather than the lobes below; within the coverage),
+// from its reflectance q = c F_c(wo.z) and an even guess for what lies below: q / (q + (1 - q) / 2).
+float clearcoatSelect(Bsdf b, vec3 wo) {
+    if (b.clearcoat <= 0.0 || !b.clearcoatFront) return 0.0;
+    float q = b.clearcoat * fresnelDielectric(wo.z, CLEARCOAT_IOR);
+    return q / (q + 0.5 * (1.0 - q));
+}
+
+// The probabilities bsdfSampleDirection picks the clear coat with and the pass with:
+// (1 - wPass) clearcoatSelect and wPass; the lobes below share the rest.
+float clearcoatLobeProbability(Bsdf b, vec3 wo) { return (1.0 - b.wPass) * clearcoatSelect(b, wo); }
 
 // The coat's Fresnel reflectance at cosTheta, per channel: the dielectric's F(ior), or under
 // KHR_materials_specular its fresnel_mix form, weight * (f0 + (1 - f0) w) with
@@ -172,10 +217,27 @@ float coatSelectProbability(Bsdf b, float cosThetaO) {
                                             b.specularTinted ? luminance(fc) : fc.x);
 }
 
-// Lobe selection probabilities (diffuse, coat, conductor, dielectric) for a given wo.
+// Lobe selection probabilities (diffuse, coat, conductor, dielectric) for a given wo: their
+// mixture weights, the base's split between diffuse and coat, all shrunk by the clear coat's
+// share (clearcoatSelect; the clear coat and the pass take the rest).
 vec4 lobeSelectProbabilities(Bsdf b, vec3 wo) {
     float pCoat = b.coated ? coatSelectProbability(b, wo.z) : 0.0;
-    return vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric);
+    return vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric) *
+           (1.0 - clearcoatSelect(b, wo));
+}
+
+// The clear coat's rough reflection, without its weight (1 - wPass) c: D G F_c / (4 cos cos).
+float evalClearcoat(Bsdf b, vec3 wo, vec3 wi) {
+    if (wi.z <= 0.0 || wo.z <= 0.0 || clearcoatSmooth(b)) return 0.0;
+    vec3 m = normalize(wo + wi);
+    return ggxD(m, b.clearcoatAlpha) * ggxG2(wo, wi, b.clearcoatAlpha) *
+           fresnelDielectric(dot(wo, m), CLEARCOAT_IOR) / (4.0 * wo.z * wi.z);
+}
+
+float pdfClearcoat(Bsdf b, vec3 wo, vec3 wi) {
+    if (wi.z <= 0.0 || clearcoatSmooth(b)) return 0.0;
+    vec3 m = normalize(wo + wi);
+    return ggxVisibleNormalPdf(wo, m, b.clearcoatAlpha) / (4.0 * abs(dot(wo, m)));
 }
 
 // ---- Individual non-delta lobes ------------------------------------------------------------
@@ -274,6 +336,10 @@ vec3 bsdfEval(Bsdf b, vec3 wo, vec3 wi) {
     }
     if (b.wConductor > 0.0) f += b.wConductor * evalConductor(b, wo, wi);
     if (b.wDielectric > 0.0) f += b.wDielectric * evalDielectric(b, wo, wi);
+    if (b.clearcoat > 0.0) {
+        f *= clearcoatAttenuation(b, wo) * clearcoatAttenuation(b, wi);
+        if (b.clearcoatFront) f += vec3((1.0 - b.wPass) * b.clearcoat * evalClearcoat(b, wo, wi));
+    }
     return f;
 }
 
@@ -286,6 +352,8 @@ float bsdfPdf(Bsdf b, vec3 wo, vec3 wi) {
     if (p.y > 0.0) pdf += p.y * pdfCoatSpecular(b, wo, wi);
     if (p.z > 0.0) pdf += p.z * pdfConductor(b, wo, wi);
     if (p.w > 0.0) pdf += p.w * pdfDielectric(b, wo, wi);
+    float pClearcoat = clearcoatLobeProbability(b, wo);
+    if (pClearcoat > 0.0) pdf += pClearcoat * pdfClearcoat(b, wo, wi);
     return pdf;
 }
 
@@ -302,7 +370,9 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
     float pCoat = b.coated ? coatSelectProbabilityFromFresnel(
                                  b, fresnelO, b.specularTinted ? luminance(coatO) : coatO.x)
                            : 0.0;
-    vec4 p = vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric);
+    float pClearcoatShare = clearcoatSelect(b, wo);
+    vec4 p = vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric) *
+             (1.0 - pClearcoatShare);
     // Smith masking of wo and wi (Heitz 2014): G1(wo) = 1 / (1 + L(wo)), G2 = 1 / (1 + L(wo) + L(wi)).
     float lambdaO = rough ? ggxLambda(wo, b.alpha) : 0.0;
     float G2 = rough ? 1.0 / (1.0 + lambdaO + ggxLambda(wi, b.alpha)) : 0.0;
@@ -365,6 +435,14 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
             }
         }
     }
+    if (b.clearcoat > 0.0) {
+        // The clear coat over all of it (evalClearcoat, pdfClearcoat).
+        f *= clearcoatAttenuation(b, wo) * clearcoatAttenuation(b, wi);
+        if (b.clearcoatFront) {
+            f += vec3((1.0 - b.wPass) * b.clearcoat * evalClearcoat(b, wo, wi));
+            pdf += (1.0 - b.wPass) * pClearcoatShare * pdfClearcoat(b, wo, wi);
+        }
+    }
     return f;
 }
 
@@ -372,7 +450,8 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
 // latter reflecting or transmitting, or LOBE_PASS, transmitting), the direction it scatters wo
 // into and its weight f * |cos(wi)| (the lobe's Fresnel factor times its mixture weight;
 // transmission tinted by baseColor and divided by eta^2; a thin sheet's straight through with
-// its 1 - R'; a pass's 1 - coverage). False when the material has no such delta lobe or the
+// its 1 - R'; a pass's 1 - coverage; LOBE_CLEARCOAT's (1 - wPass) c F_c; every lobe below the
+// clear coat times its attenuation at wo and wi). False when the material has no such delta lobe or the
 // direction does not exist (total internal reflection). Path mutations use this to follow
 // specular chains; bsdfSample divides the weight by the lobe's probability.
 bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out vec3 weight) {
@@ -384,6 +463,11 @@ bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out ve
         wi = -wo;
         weight = vec3(b.wPass);
         return b.wPass > 0.0;
+    }
+    if (lobe == LOBE_CLEARCOAT) {
+        if (transmit || !clearcoatSmooth(b) || !b.clearcoatFront) return false;
+        weight = vec3((1.0 - b.wPass) * b.clearcoat * fresnelDielectric(wo.z, CLEARCOAT_IOR));
+        return maxComponent(weight) > 0.0;
     }
     if (!bsdfSmooth(b)) return false;
     if (lobe == LOBE_COAT && !transmit && b.wBase > 0.0 && b.coated) {
@@ -404,6 +488,7 @@ bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out ve
     } else {
         return false;
     }
+    weight *= clearcoatAttenuation(b, wo) * clearcoatAttenuation(b, wi);
     return maxComponent(weight) > 0.0;
 }
 
@@ -455,7 +540,7 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
         vec3 m = ggxSampleVisibleNormal(wo, b.alpha, u);
         s.wi = reflect(-wo, m);
         if (s.wi.z <= 0.0) return false;
-    } else if (p.w > 0.0 && (b.wPass == 0.0 || uLobe < p.x + p.y + p.z + p.w)) {
+    } else if (p.w > 0.0 && ((b.wPass == 0.0 && b.clearcoat == 0.0) || uLobe < p.x + p.y + p.z + p.w)) {
         s.lobe = LOBE_DIELECTRIC;
         // Re-use the lobe sample's remainder to choose reflection or transmission.
         float uChoice = clamp((uLobe - (p.x + p.y + p.z)) / p.w, 0.0, ONE_MINUS_EPSILON);
@@ -487,6 +572,19 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
             s.wi = wt;
             s.eta = b.eta;
         }
+    } else if (b.clearcoat > 0.0 && (b.wPass == 0.0 || uLobe < 1.0 - b.wPass)) {
+        s.lobe = LOBE_CLEARCOAT;
+        if (clearcoatSmooth(b)) {
+            vec3 weight;
+            if (!bsdfSpecular(b, wo, LOBE_CLEARCOAT, false, s.wi, weight)) return false;
+            s.f = weight / wo.z;
+            s.pdf = clearcoatLobeProbability(b, wo);
+            s.delta = true;
+            return s.pdf > 0.0;
+        }
+        vec3 m = ggxSampleVisibleNormal(wo, b.clearcoatAlpha, u);
+        s.wi = reflect(-wo, m);
+        if (s.wi.z <= 0.0) return false;
     } else if (b.wPass > 0.0) {
         // BLEND: the ray passes on with probability 1 - coverage, weight 1.
         s.lobe = LOBE_PASS;

@@ -49,9 +49,13 @@ Material materialAt(uint i) {
     uvec4 e = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 4u));
     uvec4 f = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 5u));
     vec4 g = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 6u)));
+    uvec4 h = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 7u));
+    vec4 k = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 8u)));
+    uvec4 l = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 9u));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
                     c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x),
-                    uintBitsToFloat(f.y), f.z, f.w, g.xyz, g.w);
+                    uintBitsToFloat(f.y), f.z, f.w, g.xyz, g.w, uintBitsToFloat(h.x),
+                    uintBitsToFloat(h.y), h.z, h.w, k.xyz, k.w, l.x, l.y, l.z, l.w);
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -236,6 +240,10 @@ struct MaterialSample {
     float coverage;  // 1 unless alphaMode BLEND
     float specular;        // KHR_materials_specular (MATERIAL_SPECULAR): weight and F0 tint,
     vec3 specularColor;    // times their textures
+    float clearcoat;       // KHR_materials_clearcoat, times their textures
+    float clearcoatRoughness;
+    vec3 sheenColor;       // KHR_materials_sheen, times their textures
+    float sheenRoughness;
 };
 
 MaterialSample materialTextures(Material m, SurfacePoint s) {
@@ -247,17 +255,28 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     r.shadingNormal = s.shadingNormal;
     r.specular = m.specular;
     r.specularColor = m.specularColor;
+    r.clearcoat = m.clearcoat;
+    r.clearcoatRoughness = m.clearcoatRoughness;
+    r.sheenColor = m.sheenColor;
+    r.sheenRoughness = m.sheenRoughness;
     float alpha = 1.0;
     int mrTexture = int(m.metallicRoughnessTexture) - 1;
     int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
     int transmissionTexture = int(m.transmissionTexture) - 1;
     int specularTexture = int(m.specularTexture) - 1;
     int specularColorTexture = int(m.specularColorTexture) - 1;
+    int clearcoatTexture = int(m.clearcoatTexture) - 1;
+    int clearcoatRoughnessTexture = int(m.clearcoatRoughnessTexture) - 1;
+    int sheenColorTexture = int(m.sheenColorTexture) - 1;
+    int sheenRoughnessTexture = int(m.sheenRoughnessTexture) - 1;
     // Bit w set: the material has texture kind w (0 base colour, 1 metallicRoughness, 2 normal,
-    // 3 transmission, 4 specular, 5 specular colour); each pass takes the lowest kind left.
+    // 3 transmission, 4 specular, 5 specular colour, 6 clearcoat, 7 clearcoat roughness, 8 sheen
+    // colour, 9 sheen roughness); each pass takes the lowest kind left.
     uint left = (m.baseColorTexture >= 0 ? 1u : 0u) | (mrTexture >= 0 ? 2u : 0u) |
                 (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u) |
-                (specularTexture >= 0 ? 16u : 0u) | (specularColorTexture >= 0 ? 32u : 0u);
+                (specularTexture >= 0 ? 16u : 0u) | (specularColorTexture >= 0 ? 32u : 0u) |
+                (clearcoatTexture >= 0 ? 64u : 0u) | (clearcoatRoughnessTexture >= 0 ? 128u : 0u) |
+                (sheenColorTexture >= 0 ? 256u : 0u) | (sheenRoughnessTexture >= 0 ? 512u : 0u);
     int count = bitCount(left);
     vec3 normalTexel = vec3(0.5, 0.5, 1.0);
     for (int k = 0; k < count; ++k) {
@@ -268,8 +287,12 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
                     : which == 2 ? normalTexture
                     : which == 3 ? transmissionTexture
                     : which == 4 ? specularTexture
-                                 : specularColorTexture;
-        vec4 t = sampleTextureRgba(index, s.uv, which == 0 || which == 5);
+                    : which == 5 ? specularColorTexture
+                    : which == 6 ? clearcoatTexture
+                    : which == 7 ? clearcoatRoughnessTexture
+                    : which == 8 ? sheenColorTexture
+                                 : sheenRoughnessTexture;
+        vec4 t = sampleTextureRgba(index, s.uv, which == 0 || which == 5 || which == 8);
         if (which == 0) {
             r.baseColor *= t.rgb;
             alpha = t.a;
@@ -282,8 +305,16 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
             r.transmission *= t.r;
         } else if (which == 4) {
             r.specular *= t.a;
-        } else {
+        } else if (which == 5) {
             r.specularColor *= t.rgb;
+        } else if (which == 6) {
+            r.clearcoat *= t.r;
+        } else if (which == 7) {
+            r.clearcoatRoughness *= t.g;
+        } else if (which == 8) {
+            r.sheenColor *= t.rgb;
+        } else {
+            r.sheenRoughness *= t.a;
         }
     }
     if (sceneHasNormalMaps() && normalTexture >= 0) {

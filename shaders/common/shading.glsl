@@ -28,10 +28,14 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     sh.bsdf = makeBsdf(ms.baseColor, ms.metallic, ms.roughness, ms.transmission, m.ior, sh.front,
                        (m.flags & MATERIAL_THIN_WALLED) != 0u, ms.coverage);
     if ((m.flags & MATERIAL_SPECULAR) != 0u) bsdfSetSpecular(sh.bsdf, ms.specular, ms.specularColor);
+    if (m.clearcoat > 0.0) bsdfSetClearcoat(sh.bsdf, ms.clearcoat, ms.clearcoatRoughness);
     // In a scene without GGX lobes (SCENE_FEATURE_NO_GLOSSY) every alpha that matters is below
     // SMOOTH_ALPHA, and without transmission every glass weight is 0: as constants they let the
     // compiler drop the microfacet code, or the glass lobe's, from every kernel.
-    if (!sceneHasGlossy()) sh.bsdf.alpha = 0.0;
+    if (!sceneHasGlossy()) {
+        sh.bsdf.alpha = 0.0;
+        sh.bsdf.clearcoatAlpha = 0.0;
+    }
     if (!sceneHasTransmission()) sh.bsdf.wDielectric = 0.0;
     return sh;
 }

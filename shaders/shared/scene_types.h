@@ -154,9 +154,21 @@ struct Material {
     uint specularColorTexture;  // index + 1, 0 for none (sRGB; specularColor times its rgb)
     vec3 specularColor;    // KHR_materials_specular specularColorFactor (MATERIAL_SPECULAR)
     float specular;        // its specularFactor
+    // KHR_materials_clearcoat: a GGX coat of ior 1.5 over everything (bsdf.glsl); 0: none.
+    float clearcoat;       // clearcoatFactor (times clearcoatTexture's red)
+    float clearcoatRoughness;  // clearcoatRoughnessFactor (times its texture's green)
+    uint clearcoatTexture;     // index + 1, 0 for none (linear)
+    uint clearcoatRoughnessTexture;  // index + 1, 0 for none (linear)
+    // KHR_materials_sheen: the Charlie sheen lobe over the base (bsdf.glsl); black: none.
+    vec3 sheenColor;       // sheenColorFactor (times sheenColorTexture, sRGB)
+    float sheenRoughness;  // sheenRoughnessFactor (times its texture's alpha)
+    uint sheenColorTexture;      // index + 1, 0 for none
+    uint sheenRoughnessTexture;  // index + 1, 0 for none (linear; alpha)
+    uint pad0;
+    uint pad1;
 };
-PMCR_CHECK_SIZE(Material, 112);
-PMCR_CONST uint MATERIAL_TEXELS = 7;
+PMCR_CHECK_SIZE(Material, 160);
+PMCR_CONST uint MATERIAL_TEXELS = 10;
 // Below this GGX alpha (roughness^2) a lobe is perfectly smooth, a delta, as pbrt-v4 does.
 PMCR_CONST float SMOOTH_ALPHA = 1e-3f;
 

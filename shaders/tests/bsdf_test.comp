@@ -5,7 +5,8 @@
 //           results[2i] = (wi, pdf), results[2i + 1] = (f, ok + 2 delta + 4 lobe)
 //   mode 1: results[i] = (bsdfEval, bsdfPdf) at wo = inputs[2i].xyz, wi = inputs[2i + 1].xyz
 //   mode 2 (one invocation): results[0] = lobeSelectProbabilities(wo),
-//           results[1] = (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass)
+//           results[1] = (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass),
+//           results[2] = (clearcoatLobeProbability, clearcoatAttenuation(wo), 0, 0)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -31,6 +32,8 @@ layout(push_constant, scalar) uniform Push {
     float coverage;
     float specularWeight;  // KHR_materials_specular; negative: none
     vec3 specularColor;
+    float clearcoat;       // KHR_materials_clearcoat; 0: none
+    float clearcoatRoughness;
 } push;
 
 void main() {
@@ -39,6 +42,7 @@ void main() {
     Bsdf b = makeBsdf(push.baseColor, push.metallic, push.roughness, push.transmission, push.ior,
                       push.frontSide != 0u, push.thin != 0u, push.coverage);
     if (push.specularWeight >= 0.0) bsdfSetSpecular(b, push.specularWeight, push.specularColor);
+    if (push.clearcoat > 0.0) bsdfSetClearcoat(b, push.clearcoat, push.clearcoatRoughness);
     if (push.mode == 0u) {
         Rng rng = rngCreate(hashCombine(i, push.seed));
         float uLobe = rngNext(rng);
@@ -55,5 +59,7 @@ void main() {
         results[0] = lobeSelectProbabilities(b, push.wo);
         results[1] = vec4(dielectricReflectance(b, push.wo.z), b.eta,
                           bsdfHasNonDelta(b) ? 1.0 : 0.0, b.wPass);
+        results[2] = vec4(clearcoatLobeProbability(b, push.wo), clearcoatAttenuation(b, push.wo),
+                          0.0, 0.0);
     }
 }

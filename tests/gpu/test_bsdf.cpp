@@ -46,12 +46,14 @@ struct BsdfPush {
     float coverage;
     float specularWeight;
     glm::vec3 specularColor;
+    float clearcoat;
+    float clearcoatRoughness;
 };
 
 enum BsdfMode : uint32_t { Sample = 0, Eval, Info };
 
 // bsdf.glsl lobe ids (LOBE_*).
-enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric, LobePass };
+enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric, LobePass, LobeClearcoat };
 
 struct MaterialCase {
     std::string name;
@@ -65,6 +67,8 @@ struct MaterialCase {
     float coverage = 1.0f;  // alphaMode BLEND
     float specular = -1.0f;  // KHR_materials_specular's weight (negative: no extension)
     glm::vec3 specularColor = glm::vec3(1.0f);
+    float clearcoat = 0.0f;  // KHR_materials_clearcoat
+    float clearcoatRoughness = 0.0f;
 };
 
 const glm::vec3 kColour(0.8f, 0.5f, 0.3f);
@@ -105,6 +109,12 @@ const std::vector<MaterialCase>& materials() {
         {"specular 0.3", kColour, 0, 0.3f, 0, 1.5f, true, false, 1, 0.7f, glm::vec3(1.0f, 0.5f, 0.2f)},
         {"specular bright 0.2", kWhite, 0, 0.2f, 0, 1.5f, true, false, 1, 1.0f, glm::vec3(8.0f, 1.0f, 0.0f)},
         {"specular off 0.5", kColour, 0.3f, 0.5f, 0.2f, 1.5f, true, false, 1, 0.0f, glm::vec3(1.0f)},
+        {"clearcoat smooth diffuse", kColour, 0, 1, 0, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.0f},
+        {"clearcoat 0.1 coat 0.5", kColour, 0, 0.5f, 0, 1.5f, true, false, 1, -1, kWhite, 0.8f, 0.1f},
+        {"clearcoat 0.3 conductor smooth", glm::vec3(0.9f, 0.6f, 0.3f), 1, 0, 0, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.3f},
+        {"clearcoat smooth glass 0.2", kWhite, 0, 0.2f, 1, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.0f},
+        {"clearcoat 0.2 glass back", kWhite, 0, 0, 1, 1.5f, false, false, 1, -1, kWhite, 1.0f, 0.2f},
+        {"clearcoat 0.2 blend", kColour, 0, 0.4f, 0, 1.5f, true, false, 0.5f, -1, kWhite, 1.0f, 0.2f},
     };
     return cases;
 }
@@ -146,6 +156,8 @@ protected:
         p.coverage = m.coverage;
         p.specularWeight = m.specular;
         p.specularColor = m.specularColor;
+        p.clearcoat = m.clearcoat;
+        p.clearcoatRoughness = m.clearcoatRoughness;
         return p;
     }
     std::vector<BsdfSampleResult> sample(const MaterialCase& m, glm::vec3 wo, uint32_t n,
@@ -182,11 +194,15 @@ protected:
     }
     // lobeSelectProbabilities(wo) and (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass).
     std::pair<glm::vec4, glm::vec4> info(const MaterialCase& m, glm::vec3 wo) {
-        auto unused = zeros(16);
-        auto out = zeros(32, "bsdf info");
-        run("tests/bsdf_test", push(m, Info, 1, wo, 0, m.frontSide), 1, {&unused, &out});
-        const auto r = out.download<glm::vec4>(2);
+        const auto r = infoAll(m, wo);
         return {r[0], r[1]};
+    }
+    // ... and (clearcoatLobeProbability, clearcoatAttenuation(wo), 0, 0).
+    std::vector<glm::vec4> infoAll(const MaterialCase& m, glm::vec3 wo) {
+        auto unused = zeros(16);
+        auto out = zeros(48, "bsdf info");
+        run("tests/bsdf_test", push(m, Info, 1, wo, 0, m.frontSide), 1, {&unused, &out});
+        return out.download<glm::vec4>(3);
     }
     void checkSampling(const MaterialCase& m, double cosO, uint32_t seed);
 };
@@ -216,16 +232,21 @@ std::string describe(const MaterialCase& m, double cosO) {
 void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) {
     const uint32_t n = 1 << 17;
     const glm::vec3 wo = woAt(cosO);
-    const auto [p, extra] = info(m, wo);
+    const auto all = infoAll(m, wo);
+    const glm::vec4 p = all[0], extra = all[1];
+    const float pClearcoat = all[2].x;
     const float fresnel = extra.x, eta = extra.y;
     const bool smooth = m.roughness * m.roughness < 1e-3f;  // bsdfSmooth: alpha < SMOOTH_ALPHA
+    const bool clearcoatSmooth = m.clearcoatRoughness * m.clearcoatRoughness < 1e-3f;
     EXPECT_NEAR(extra.w, 1.0 - m.coverage, 1e-6) << "wPass";
-    EXPECT_NEAR(p.x + p.y + p.z + p.w + extra.w, 1.0, 1e-5) << "lobe probabilities";
+    EXPECT_NEAR(p.x + p.y + p.z + p.w + extra.w + pClearcoat, 1.0, 1e-5) << "lobe probabilities";
+    EXPECT_EQ(pClearcoat > 0.0f, m.clearcoat > 0.0f && m.frontSide) << "clear coat on the front only";
 
     // Discrete probabilities of the delta outcomes, from the lobe selection probabilities.
-    // Categories: coat mirror, conductor mirror, glass reflection, glass transmission, pass.
-    constexpr int kCategories = 5;
-    double deltaExpected[kCategories] = {0, 0, 0, 0, extra.w};
+    // Categories: coat mirror, conductor mirror, glass reflection, glass transmission, pass,
+    // clear coat mirror.
+    constexpr int kCategories = 6;
+    double deltaExpected[kCategories] = {0, 0, 0, 0, extra.w, clearcoatSmooth ? pClearcoat : 0.0};
     if (smooth) {
         deltaExpected[0] = p.y;
         deltaExpected[1] = p.z;
@@ -237,7 +258,7 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
         deltaTotal += d;
 
     const auto samples = sample(m, wo, n, seed);
-    double deltaObserved[kCategories] = {0, 0, 0, 0, 0};
+    double deltaObserved[kCategories] = {0, 0, 0, 0, 0, 0};
     double failed = 0.0;
     glm::dvec3 energy(0.0), energySq(0.0);
     std::vector<glm::dvec3> directions;
@@ -262,7 +283,7 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
         energy += w;
         energySq += w * w;
         if (s.delta()) {
-            ASSERT_TRUE(smooth || s.lobe() == LobePass)
+            ASSERT_TRUE(smooth || s.lobe() == LobePass || (s.lobe() == LobeClearcoat && clearcoatSmooth))
                 << "delta sample from a rough material, lobe " << s.lobe();
             int category = -1;
             if (s.lobe() == LobeCoat)
@@ -273,6 +294,8 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
                 category = s.wi.z > 0.0f ? 2 : 3;
             if (s.lobe() == LobePass)
                 category = 4;
+            if (s.lobe() == LobeClearcoat)
+                category = 5;
             ASSERT_GE(category, 0) << "delta sample of lobe " << s.lobe();
             ASSERT_NEAR(s.pdf, deltaExpected[category], 1e-5) << "discrete probability";
             if (category == 4 || (category == 3 && m.thin)) {
@@ -468,6 +491,47 @@ TEST_F(BsdfTest, SpecularExtensionWeightsAndTintsTheCoat) {
         const double fc = weight * std::min(std::max({F0 * colour.x, F0 * colour.y, F0 * colour.z}), 1.0);
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(v[0][c], kColour[c] / kPi * (1 - fc) * (1 - fc), 1e-5) << "channel " << c;
+    }
+}
+
+// KHR_materials_clearcoat over a Lambertian base: the smooth coat's mirror weight is
+// c F(1.5, cos) (the extension's coat of F0 0.04, with the exact Fresnel factor) and the base
+// below keeps (1 - c F(cos_o)) (1 - c F(cos_i)) of its value; seen from the back (no coat there)
+// the glass below is attenuated once, on the front side only.
+TEST_F(BsdfTest, ClearcoatReflectsAndAttenuatesAsLayered) {
+    for (const float c : {1.0f, 0.4f}) {
+        const MaterialCase m{"clearcoat", kColour, 0, 1, 0, 1.5f, true, false, 1, -1, kWhite, c, 0.0f};
+        for (const double cosO : {1.0, 0.7, 0.3, 0.05}) {
+            const glm::vec3 wo = woAt(cosO);
+            const double F = fresnelReference(wo.z, 1.5);
+            int mirrors = 0;
+            for (const BsdfSampleResult& s : sample(m, wo, 4096, 9)) {
+                if (!s.ok() || !s.delta()) continue;
+                ASSERT_EQ(s.lobe(), LobeClearcoat);
+                ++mirrors;
+                for (int k = 0; k < 3; ++k)
+                    ASSERT_NEAR(s.f[k] * wo.z, c * F, 2e-6) << "c " << c << ", cos " << cosO;
+            }
+            EXPECT_GT(mirrors, 0);
+            const glm::vec3 wi = glm::normalize(glm::vec3(-0.3f, 0.4f, 0.8f));
+            const double Fi = fresnelReference(wi.z, 1.5);
+            const auto v = eval(m, {wo}, {wi}, true);
+            for (int k = 0; k < 3; ++k)
+                EXPECT_NEAR(v[0][k], kColour[k] / kPi * (1 - c * F) * (1 - c * Fi), 1e-6);
+        }
+    }
+    // Rough glass under the coat, through it from outside and back: attenuated once, at the
+    // front direction, and reciprocal (f(wo, wi) / eta_o^2 = f(wi, wo) / eta_i^2).
+    const MaterialCase front{"cc glass", kWhite, 0, 0.3f, 1, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.2f};
+    MaterialCase plain = front;
+    plain.clearcoat = 0.0f;
+    const glm::vec3 a = glm::normalize(glm::vec3(0.3f, 0.1f, 0.9f)), b = glm::normalize(glm::vec3(-0.2f, 0.05f, -0.95f));
+    const auto coated = eval(front, {a}, {b}, true), bare = eval(plain, {a}, {b}, true);
+    const auto back = eval(front, {glm::vec3(b.x, b.y, -b.z)}, {glm::vec3(a.x, a.y, -a.z)}, false);
+    const double Fa = fresnelReference(a.z, 1.5);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(coated[0][k], bare[0][k] * (1 - Fa), 1e-5 * bare[0][k]);
+        EXPECT_NEAR(coated[0][k], back[0][k] / (1.5f * 1.5f), 1e-4 * coated[0][k]);
     }
 }
 

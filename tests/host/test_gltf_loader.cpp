@@ -897,6 +897,19 @@ TEST(GltfLoader, SpecularExtensionAndTexturedBlend) {
     EXPECT_EQ(sceneFeatures(s) & gpu::SCENE_FEATURE_ALPHA_MASKS, 0u);
 
     const fs::path dir = test::tempDir("specular-errors");
+    {
+        // KHR_materials_clearcoat: its factors; a rough coat makes the scene glossy.
+        GltfBuilder c = basicScene();
+        c.useExtension("KHR_materials_clearcoat");
+        c.doc["materials"][0]["extensions"]["KHR_materials_clearcoat"] = {
+            {"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.2}};
+        const Scene cs = loadQuietly(c.writeGltf(dir, "clearcoat"));
+        EXPECT_FLOAT_EQ(cs.materials[0].clearcoat, 0.8f);
+        EXPECT_FLOAT_EQ(cs.materials[0].clearcoatRoughness, 0.2f);
+        EXPECT_EQ(sceneFeatures(cs) & gpu::SCENE_FEATURE_NO_GLOSSY, 0u);
+        c.doc["materials"][0]["extensions"]["KHR_materials_clearcoat"]["clearcoatFactor"] = 1.5;
+        expectLoadError(c.writeGltf(dir, "clearcoat-bad"), "clearcoatFactor");
+    }
     for (const auto& [key, value, what] :
          {std::tuple{"specularFactor", json(1.5), "specularFactor"},
           std::tuple{"specularColorFactor", json({1.0, -1.0, 1.0}), "specularColorFactor"},
@@ -1391,6 +1404,20 @@ TEST(SceneFeatures, NoGlossyOnlyWhenNoMaterialHasAGgxLobe) {
     EXPECT_EQ(features(0.0f, 0.5f, 1.0f), 0u);    // rough glass
     EXPECT_EQ(features(0.0f, 0.5f, 0.0f), 0u);    // GGX coat
     EXPECT_EQ(features(0.0f, 1.0f, 0.0f, 1u), 0u);  // textured roughness
+    // A clear coat over a Lambertian: glossy when rough or rough by its texture.
+    auto clearcoat = [](float roughness, uint32_t texture) {
+        Scene s;
+        gpu::Material m{};
+        m.roughness = 1.0f;
+        m.clearcoat = 1.0f;
+        m.clearcoatRoughness = roughness;
+        m.clearcoatRoughnessTexture = texture;
+        s.materials = {m};
+        return sceneFeatures(s) & gpu::SCENE_FEATURE_NO_GLOSSY;
+    };
+    EXPECT_NE(clearcoat(0.0f, 0u), 0u);
+    EXPECT_EQ(clearcoat(0.2f, 0u), 0u);
+    EXPECT_EQ(clearcoat(0.0f, 1u), 0u);
 }
 
 // SCENE_FEATURE_NO_TRANSMISSION (the glass lobe compiled out) only when no material transmits.
