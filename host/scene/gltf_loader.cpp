@@ -50,6 +50,7 @@ const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_stre
                                                     "KHR_materials_transmission",
                                                     "KHR_materials_ior", "KHR_materials_volume",
                                                     "KHR_materials_specular", "KHR_materials_clearcoat",
+                                                    "KHR_materials_sheen",
                                                     "KHR_lights_punctual", "KHR_texture_transform",
                                                     "KHR_xmp"};  // metadata (authorship, licence)
 
@@ -814,6 +815,25 @@ gpu::Material GltfLoader::convertMaterial(int index) {
                       name);
         }
         if (m.clearcoat == 0.0f) m.clearcoatTexture = 0;  // no coat, whatever the texture
+    }
+    // KHR_materials_sheen: the Charlie sheen lobe over the material (shaders/common/bsdf.glsl
+    // LOBE_SHEEN): sheenColorFactor (times sheenColorTexture, sRGB) and sheenRoughnessFactor
+    // (times sheenRoughnessTexture's alpha). Black: no sheen.
+    if (const tinygltf::Value* ext = extension("KHR_materials_sheen")) {
+        if (ext->Has("sheenColorFactor")) {
+            const tinygltf::Value& value = ext->Get("sheenColorFactor");
+            if (!value.IsArray() || value.ArrayLen() != 3)
+                error(label + ": KHR_materials_sheen.sheenColorFactor needs 3 numbers");
+            for (int c = 0; c < 3; ++c) {
+                const tinygltf::Value& v = value.Get(c);
+                if (!v.IsNumber()) error(label + ": sheenColorFactor must hold numbers");
+                m.sheenColor[c] = float(number(v.GetNumberAsDouble(), "sheenColorFactor", 0, 1));
+            }
+        }
+        m.sheenRoughness = float(number(member(*ext, "KHR_materials_sheen", "sheenRoughnessFactor", 0.0),
+                                        "sheenRoughnessFactor", 0, 1));
+        m.sheenColorTexture = extensionTexture(*ext, "KHR_materials_sheen", "sheenColorTexture");
+        m.sheenRoughnessTexture = extensionTexture(*ext, "KHR_materials_sheen", "sheenRoughnessTexture");
     }
     m.ior = 1.5f;
     if (const tinygltf::Value* ext = extension("KHR_materials_ior")) {

@@ -16,6 +16,11 @@
 // lobe below is attenuated by (1 - c F_c(cos)) for each of wo and wi that lies on the front
 // (the extension's fresnel_coat, taken at both ends as the dielectric coat above does, so
 // that it stays reciprocal; a transmission crosses the coat once),
+// and between the two, a sheen (KHR_materials_sheen, colour C, roughness r): the Charlie lobe
+// C D(h) V / max(1, E(cos_o), E(cos_i)) (LOBE_SHEEN, sampled cosine-weighted) over the lobes
+// below, which keep
+// min(1 - max(C) E(cos_o), 1 - max(C) E(cos_i)) of their value (the extension's albedo
+// scaling, symmetric so reciprocal; E the lobe's directional albedo, sheenAlbedo),
 // all of it times the coverage a (alphaMode BLEND; 1 otherwise), and
 //   pass        weight 1 - a                           a delta: the ray goes on unchanged.
 // BLEND is thus the mixture a * surface + (1 - a) * nothing (Mitsuba 3's `mask` BSDF): a pass
@@ -56,6 +61,7 @@ const uint LOBE_CONDUCTOR = 3u;
 const uint LOBE_DIELECTRIC = 4u;  // reflection or transmission of the glass lobe
 const uint LOBE_PASS = 5u;        // BLEND coverage: the ray passes on unchanged (a delta)
 const uint LOBE_CLEARCOAT = 6u;   // KHR_materials_clearcoat's reflection (smooth: a delta)
+const uint LOBE_SHEEN = 7u;       // KHR_materials_sheen's Charlie lobe
 const float CLEARCOAT_IOR = 1.5;  // the extension's fixed coat (F0 0.04)
 
 struct Bsdf {
@@ -74,6 +80,9 @@ struct Bsdf {
     float clearcoat;     // KHR_materials_clearcoat factor (0: none; bsdfSetClearcoat)
     float clearcoatAlpha;  // its GGX alpha = clearcoatRoughness^2
     bool clearcoatFront;   // wo is on the coated (front) side
+    vec3 sheenColor;       // KHR_materials_sheen colour (black: none; bsdfSetSheen)
+    float sheenAlpha;      // its Charlie alpha = sheenRoughness^2, at least SHEEN_MIN_ALPHA
+    float sheenAlbedoO;    // E(|wo.z|), the sheen lobe's directional albedo at wo (sheenAlbedo)
     float wPass;         // 1 - coverage (alphaMode BLEND): weight of the pass-through delta
 };
 
@@ -108,6 +117,9 @@ Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float transmissio
     b.clearcoat = 0.0;
     b.clearcoatAlpha = 0.0;
     b.clearcoatFront = frontSide;
+    b.sheenColor = vec3(0.0);
+    b.sheenAlpha = 1.0;
+    b.sheenAlbedoO = 0.0;
     b.eta = thin ? 1.0 : frontSide ? b.ior : 1.0 / b.ior;
     b.coated = roughness < 1.0;
     return b;
@@ -139,6 +151,7 @@ bool bsdfSmooth(Bsdf b) { return b.alpha < SMOOTH_ALPHA; }
 // True when some lobe is not a delta, i.e. light sampling can contribute.
 bool bsdfHasNonDelta(Bsdf b) {
     if (b.wBase > 0.0) return true;  // the Lambertian part is never a delta (0 at coverage 0)
+    if (maxComponent(b.sheenColor) > 0.0 && b.wPass < 1.0) return true;  // the sheen
     // A rough clear coat (its alpha not below SMOOTH_ALPHA, clearcoatSmooth) on the side seen.
     if (b.clearcoat > 0.0 && b.clearcoatFront && b.clearcoatAlpha >= SMOOTH_ALPHA && b.wPass < 1.0)
         return true;
@@ -162,6 +175,79 @@ void bsdfSetClearcoat(inout Bsdf b, float factor, float roughness) {
 
 bool clearcoatSmooth(Bsdf b) { return b.clearcoatAlpha < SMOOTH_ALPHA; }
 
+// ---- The sheen (KHR_materials_sheen) ----------------------------------------------------------
+// Charlie distribution D(h) = (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi) (Estevez and Kulla
+// 2017, "Production Friendly Microfacet Sheen BRDF", eq. 2; the extension's sheen_D) with
+// Ashikhmin's visibility V = 1 / (4 (cos_i + cos_o - cos_i cos_o)) (Neubelt and Pettineo 2013;
+// the extension's V for implementations without the Charlie visibility fit).
+// The roughness is kept at 0.07 or more, as the Khronos sample viewer does: below it the lobe is
+// a sliver at grazing that no sampler or quadrature here resolves.
+const float SHEEN_MIN_ALPHA = 0.0049;
+
+bool bsdfHasSheen(Bsdf b) { return maxComponent(b.sheenColor) > 0.0; }
+
+// D V of the sheen for wo and wi above the surface, without the colour.
+float sheenDV(float alpha, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+    vec3 h = normalize(wo + wi);
+    float sin2 = max(1.0 - h.z * h.z, 0.0);
+    float D = (2.0 + 1.0 / alpha) * pow(sin2, 0.5 / alpha) * INV_TWO_PI;
+    return D / (4.0 * (wi.z + wo.z - wi.z * wo.z));
+}
+
+// E(cos): the sheen's directional albedo, the integral of D V cos_i over the hemisphere, by
+// Gauss-Legendre quadrature of 8 nodes in cos_i and the midpoint rule of 16 in phi over [0, pi]
+// (the lobe is symmetric about the plane of wo). The quadrature is pmcr's E (the sample viewer
+// reads a table of the same integral): the albedo scaling uses it on both sides, so the BSDF
+// stays reciprocal whatever its error, and test_bsdf.cpp checks it against sampling.
+float sheenAlbedo(float alpha, float cosTheta) {
+    const float x[4] = float[4](0.1834346425, 0.5255324099, 0.7966664774, 0.9602898565);
+    const float w[4] = float[4](0.3626837834, 0.3137066459, 0.2223810345, 0.1012285363);
+    float c = clamp(cosTheta, 1e-4, 1.0);
+    vec3 wo = vec3(sqrt(1.0 - c * c), 0.0, c);
+    float sum = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        float mu = 0.5 * (1.0 + (i < 4 ? -x[3 - i] : x[i - 4]));
+        float weight = 0.5 * (i < 4 ? w[3 - i] : w[i - 4]);
+        float s = sqrt(max(1.0 - mu * mu, 0.0));
+        for (int k = 0; k < 16; ++k) {
+            float phi = (float(k) + 0.5) * (PI / 16.0);
+            vec3 wi = vec3(s * cos(phi), s * sin(phi), mu);
+            sum += weight * sheenDV(alpha, wo, wi) * mu;
+        }
+    }
+    return 2.0 * (PI / 16.0) * sum;
+}
+
+// KHR_materials_sheen on a material made by makeBsdf (wo given for the albedo it takes there).
+void bsdfSetSheen(inout Bsdf b, vec3 color, float roughness, vec3 wo) {
+    b.sheenColor = clamp(color, vec3(0.0), vec3(1.0));
+    b.sheenAlpha = max(sqr(clamp(roughness, 0.0, 1.0)), SHEEN_MIN_ALPHA);
+    b.sheenAlbedoO = sheenAlbedo(b.sheenAlpha, abs(wo.z));
+}
+
+// The share of the lobes below the sheen kept for (wo, wi): min(1 - max(C) E(|cos_o|),
+// 1 - max(C) E(|cos_i|)) (the extension's sheen albedo scaling), at least 0.
+float sheenScaling(Bsdf b, float albedoI) {
+    float c = maxComponent(b.sheenColor);
+    return max(min(1.0 - c * b.sheenAlbedoO, 1.0 - c * albedoI), 0.0);
+}
+
+// The sheen lobe C D V / max(1, E(cos_o), E(cos_i)): with Ashikhmin's visibility the lobe's
+// albedo passes 1 near grazing at low roughness; dividing by the larger albedo of the two
+// directions (symmetric, so still reciprocal) keeps it at most 1.
+vec3 evalSheen(Bsdf b, vec3 wo, vec3 wi, float albedoI) {
+    return b.sheenColor * (sheenDV(b.sheenAlpha, wo, wi) / max(1.0, max(b.sheenAlbedoO, albedoI)));
+}
+
+// Probability of sampling the sheen among the lobes under the clear coat: q / (q + (1 - q) / 2),
+// q = max(C) min(E(wo.z), 1).
+float sheenSelect(Bsdf b) {
+    if (!bsdfHasSheen(b)) return 0.0;
+    float q = maxComponent(b.sheenColor) * min(b.sheenAlbedoO, 1.0);
+    return q / (q + 0.5 * (1.0 - q));
+}
+
 // The share of light at w the clear coat leaves to the lobes below: 1 - c F_c(|cos|) when w is
 // on the coated side, else 1 (the coat is crossed once by a transmission).
 float clearcoatAttenuation(Bsdf b, vec3 w) {
@@ -179,8 +265,12 @@ float clearcoatSelect(Bsdf b, vec3 wo) {
 }
 
 // The probabilities bsdfSampleDirection picks the clear coat with and the pass with:
-// (1 - wPass) clearcoatSelect and wPass; the lobes below share the rest.
+// (1 - wPass) clearcoatSelect and wPass; the sheen (1 - wPass) (1 - clearcoatSelect) sheenSelect;
+// the lobes below share the rest.
 float clearcoatLobeProbability(Bsdf b, vec3 wo) { return (1.0 - b.wPass) * clearcoatSelect(b, wo); }
+float sheenLobeProbability(Bsdf b, vec3 wo) {
+    return (1.0 - b.wPass) * (1.0 - clearcoatSelect(b, wo)) * sheenSelect(b);
+}
 
 // The coat's Fresnel reflectance at cosTheta, per channel: the dielectric's F(ior), or under
 // KHR_materials_specular its fresnel_mix form, weight * (f0 + (1 - f0) w) with
@@ -223,7 +313,7 @@ float coatSelectProbability(Bsdf b, float cosThetaO) {
 vec4 lobeSelectProbabilities(Bsdf b, vec3 wo) {
     float pCoat = b.coated ? coatSelectProbability(b, wo.z) : 0.0;
     return vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric) *
-           (1.0 - clearcoatSelect(b, wo));
+           ((1.0 - clearcoatSelect(b, wo)) * (1.0 - sheenSelect(b)));
 }
 
 // The clear coat's rough reflection, without its weight (1 - wPass) c: D G F_c / (4 cos cos).
@@ -336,6 +426,11 @@ vec3 bsdfEval(Bsdf b, vec3 wo, vec3 wi) {
     }
     if (b.wConductor > 0.0) f += b.wConductor * evalConductor(b, wo, wi);
     if (b.wDielectric > 0.0) f += b.wDielectric * evalDielectric(b, wo, wi);
+    if (bsdfHasSheen(b)) {
+        float albedoI = sheenAlbedo(b.sheenAlpha, abs(wi.z));
+        f *= sheenScaling(b, albedoI);
+        f += (1.0 - b.wPass) * evalSheen(b, wo, wi, albedoI);
+    }
     if (b.clearcoat > 0.0) {
         f *= clearcoatAttenuation(b, wo) * clearcoatAttenuation(b, wi);
         if (b.clearcoatFront) f += vec3((1.0 - b.wPass) * b.clearcoat * evalClearcoat(b, wo, wi));
@@ -354,6 +449,8 @@ float bsdfPdf(Bsdf b, vec3 wo, vec3 wi) {
     if (p.w > 0.0) pdf += p.w * pdfDielectric(b, wo, wi);
     float pClearcoat = clearcoatLobeProbability(b, wo);
     if (pClearcoat > 0.0) pdf += pClearcoat * pdfClearcoat(b, wo, wi);
+    float pSheen = sheenLobeProbability(b, wo);
+    if (pSheen > 0.0) pdf += pSheen * cosineHemispherePdf(wi.z);
     return pdf;
 }
 
@@ -372,7 +469,7 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
                            : 0.0;
     float pClearcoatShare = clearcoatSelect(b, wo);
     vec4 p = vec4(b.wBase * (1.0 - pCoat), b.wBase * pCoat, b.wConductor, b.wDielectric) *
-             (1.0 - pClearcoatShare);
+             ((1.0 - pClearcoatShare) * (1.0 - sheenSelect(b)));
     // Smith masking of wo and wi (Heitz 2014): G1(wo) = 1 / (1 + L(wo)), G2 = 1 / (1 + L(wo) + L(wi)).
     float lambdaO = rough ? ggxLambda(wo, b.alpha) : 0.0;
     float G2 = rough ? 1.0 / (1.0 + lambdaO + ggxLambda(wi, b.alpha)) : 0.0;
@@ -435,6 +532,13 @@ vec3 bsdfEvalPdf(Bsdf b, vec3 wo, vec3 wi, out float pdf) {
             }
         }
     }
+    if (bsdfHasSheen(b)) {
+        // The sheen over the lobes above (sheenScaling, sheenDV; sampled cosine-weighted).
+        float albedoI = sheenAlbedo(b.sheenAlpha, abs(wi.z));
+        f *= sheenScaling(b, albedoI);
+        f += (1.0 - b.wPass) * evalSheen(b, wo, wi, albedoI);
+        pdf += (1.0 - b.wPass) * (1.0 - pClearcoatShare) * sheenSelect(b) * cosineHemispherePdf(wi.z);
+    }
     if (b.clearcoat > 0.0) {
         // The clear coat over all of it (evalClearcoat, pdfClearcoat).
         f *= clearcoatAttenuation(b, wo) * clearcoatAttenuation(b, wi);
@@ -488,6 +592,7 @@ bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out ve
     } else {
         return false;
     }
+    if (bsdfHasSheen(b)) weight *= sheenScaling(b, sheenAlbedo(b.sheenAlpha, abs(wi.z)));
     weight *= clearcoatAttenuation(b, wo) * clearcoatAttenuation(b, wi);
     return maxComponent(weight) > 0.0;
 }
@@ -540,7 +645,8 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
         vec3 m = ggxSampleVisibleNormal(wo, b.alpha, u);
         s.wi = reflect(-wo, m);
         if (s.wi.z <= 0.0) return false;
-    } else if (p.w > 0.0 && ((b.wPass == 0.0 && b.clearcoat == 0.0) || uLobe < p.x + p.y + p.z + p.w)) {
+    } else if (p.w > 0.0 && ((b.wPass == 0.0 && b.clearcoat == 0.0 && !bsdfHasSheen(b)) ||
+                             uLobe < p.x + p.y + p.z + p.w)) {
         s.lobe = LOBE_DIELECTRIC;
         // Re-use the lobe sample's remainder to choose reflection or transmission.
         float uChoice = clamp((uLobe - (p.x + p.y + p.z)) / p.w, 0.0, ONE_MINUS_EPSILON);
@@ -572,6 +678,9 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
             s.wi = wt;
             s.eta = b.eta;
         }
+    } else if (bsdfHasSheen(b) && uLobe < p.x + p.y + p.z + p.w + sheenLobeProbability(b, wo)) {
+        s.lobe = LOBE_SHEEN;
+        s.wi = sampleCosineHemisphere(u);
     } else if (b.clearcoat > 0.0 && (b.wPass == 0.0 || uLobe < 1.0 - b.wPass)) {
         s.lobe = LOBE_CLEARCOAT;
         if (clearcoatSmooth(b)) {

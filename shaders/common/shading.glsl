@@ -29,6 +29,8 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
                        (m.flags & MATERIAL_THIN_WALLED) != 0u, ms.coverage);
     if ((m.flags & MATERIAL_SPECULAR) != 0u) bsdfSetSpecular(sh.bsdf, ms.specular, ms.specularColor);
     if (m.clearcoat > 0.0) bsdfSetClearcoat(sh.bsdf, ms.clearcoat, ms.clearcoatRoughness);
+    if (maxComponent(m.sheenColor) > 0.0)
+        bsdfSetSheen(sh.bsdf, ms.sheenColor, ms.sheenRoughness, sh.woLocal);
     // In a scene without GGX lobes (SCENE_FEATURE_NO_GLOSSY) every alpha that matters is below
     // SMOOTH_ALPHA, and without transmission every glass weight is 0: as constants they let the
     // compiler drop the microfacet code, or the glass lobe's, from every kernel.

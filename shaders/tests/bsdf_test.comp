@@ -6,7 +6,8 @@
 //   mode 1: results[i] = (bsdfEval, bsdfPdf) at wo = inputs[2i].xyz, wi = inputs[2i + 1].xyz
 //   mode 2 (one invocation): results[0] = lobeSelectProbabilities(wo),
 //           results[1] = (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass),
-//           results[2] = (clearcoatLobeProbability, clearcoatAttenuation(wo), 0, 0)
+//           results[2] = (clearcoatLobeProbability, clearcoatAttenuation(wo), max(C) E(wo),
+//                        sheenLobeProbability)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -34,15 +35,24 @@ layout(push_constant, scalar) uniform Push {
     vec3 specularColor;
     float clearcoat;       // KHR_materials_clearcoat; 0: none
     float clearcoatRoughness;
+    vec3 sheenColor;       // KHR_materials_sheen; black: none
+    float sheenRoughness;
 } push;
 
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= push.count) return;
+// The material for outgoing direction wo (the sheen's albedo at wo is part of it).
+Bsdf material(vec3 wo) {
     Bsdf b = makeBsdf(push.baseColor, push.metallic, push.roughness, push.transmission, push.ior,
                       push.frontSide != 0u, push.thin != 0u, push.coverage);
     if (push.specularWeight >= 0.0) bsdfSetSpecular(b, push.specularWeight, push.specularColor);
     if (push.clearcoat > 0.0) bsdfSetClearcoat(b, push.clearcoat, push.clearcoatRoughness);
+    if (maxComponent(push.sheenColor) > 0.0) bsdfSetSheen(b, push.sheenColor, push.sheenRoughness, wo);
+    return b;
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= push.count) return;
+    Bsdf b = material(push.wo);
     if (push.mode == 0u) {
         Rng rng = rngCreate(hashCombine(i, push.seed));
         float uLobe = rngNext(rng);
@@ -54,12 +64,13 @@ void main() {
     } else if (push.mode == 1u) {
         vec3 wo = inputs[2u * i].xyz;
         vec3 wi = inputs[2u * i + 1u].xyz;
+        b = material(wo);
         results[i] = vec4(bsdfEval(b, wo, wi), bsdfPdf(b, wo, wi));
     } else {
         results[0] = lobeSelectProbabilities(b, push.wo);
         results[1] = vec4(dielectricReflectance(b, push.wo.z), b.eta,
                           bsdfHasNonDelta(b) ? 1.0 : 0.0, b.wPass);
         results[2] = vec4(clearcoatLobeProbability(b, push.wo), clearcoatAttenuation(b, push.wo),
-                          0.0, 0.0);
+                          b.sheenAlbedoO, sheenLobeProbability(b, push.wo));
     }
 }

@@ -48,12 +48,14 @@ struct BsdfPush {
     glm::vec3 specularColor;
     float clearcoat;
     float clearcoatRoughness;
+    glm::vec3 sheenColor;
+    float sheenRoughness;
 };
 
 enum BsdfMode : uint32_t { Sample = 0, Eval, Info };
 
 // bsdf.glsl lobe ids (LOBE_*).
-enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric, LobePass, LobeClearcoat };
+enum Lobe : uint32_t { LobeDiffuse = 1, LobeCoat, LobeConductor, LobeDielectric, LobePass, LobeClearcoat, LobeSheen };
 
 struct MaterialCase {
     std::string name;
@@ -69,7 +71,17 @@ struct MaterialCase {
     glm::vec3 specularColor = glm::vec3(1.0f);
     float clearcoat = 0.0f;  // KHR_materials_clearcoat
     float clearcoatRoughness = 0.0f;
+    glm::vec3 sheenColor = glm::vec3(0.0f);  // KHR_materials_sheen
+    float sheenRoughness = 0.0f;
 };
+
+// A material with a sheen of `colour` and `roughness` over the given one.
+MaterialCase withSheen(MaterialCase m, const char* name, glm::vec3 colour, float roughness) {
+    m.name = name;
+    m.sheenColor = colour;
+    m.sheenRoughness = roughness;
+    return m;
+}
 
 const glm::vec3 kColour(0.8f, 0.5f, 0.3f);
 const glm::vec3 kWhite(1.0f);
@@ -115,6 +127,13 @@ const std::vector<MaterialCase>& materials() {
         {"clearcoat smooth glass 0.2", kWhite, 0, 0.2f, 1, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.0f},
         {"clearcoat 0.2 glass back", kWhite, 0, 0, 1, 1.5f, false, false, 1, -1, kWhite, 1.0f, 0.2f},
         {"clearcoat 0.2 blend", kColour, 0, 0.4f, 0, 1.5f, true, false, 0.5f, -1, kWhite, 1.0f, 0.2f},
+        withSheen({"", kWhite, 0, 1, 0, 1.5f, true}, "sheen white over white", kWhite, 0.5f),
+        withSheen({"", glm::vec3(0.1f, 0.1f, 0.4f), 0, 1, 0, 1.5f, true}, "sheen cloth 0.3",
+                  glm::vec3(0.8f, 0.8f, 1.0f), 0.3f),
+        withSheen({"", kColour, 0, 0.4f, 0, 1.5f, true}, "sheen 0.8 over coat", glm::vec3(1.0f, 0.5f, 0.5f), 0.8f),
+        withSheen({"", kWhite, 0, 0.2f, 1, 1.5f, true, false, 0.7f, -1, kWhite, 1.0f, 0.1f},
+                  "sheen glass clearcoat blend", glm::vec3(0.5f), 0.4f),
+        withSheen({"", kWhite, 0, 0, 1, 1.5f, false}, "sheen smooth glass back", kWhite, 0.6f),
     };
     return cases;
 }
@@ -158,6 +177,8 @@ protected:
         p.specularColor = m.specularColor;
         p.clearcoat = m.clearcoat;
         p.clearcoatRoughness = m.clearcoatRoughness;
+        p.sheenColor = m.sheenColor;
+        p.sheenRoughness = m.sheenRoughness;
         return p;
     }
     std::vector<BsdfSampleResult> sample(const MaterialCase& m, glm::vec3 wo, uint32_t n,
@@ -234,12 +255,12 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
     const glm::vec3 wo = woAt(cosO);
     const auto all = infoAll(m, wo);
     const glm::vec4 p = all[0], extra = all[1];
-    const float pClearcoat = all[2].x;
+    const float pClearcoat = all[2].x, pSheen = all[2].w;
     const float fresnel = extra.x, eta = extra.y;
     const bool smooth = m.roughness * m.roughness < 1e-3f;  // bsdfSmooth: alpha < SMOOTH_ALPHA
     const bool clearcoatSmooth = m.clearcoatRoughness * m.clearcoatRoughness < 1e-3f;
     EXPECT_NEAR(extra.w, 1.0 - m.coverage, 1e-6) << "wPass";
-    EXPECT_NEAR(p.x + p.y + p.z + p.w + extra.w + pClearcoat, 1.0, 1e-5) << "lobe probabilities";
+    EXPECT_NEAR(p.x + p.y + p.z + p.w + extra.w + pClearcoat + pSheen, 1.0, 1e-5) << "lobe probabilities";
     EXPECT_EQ(pClearcoat > 0.0f, m.clearcoat > 0.0f && m.frontSide) << "clear coat on the front only";
 
     // Discrete probabilities of the delta outcomes, from the lobe selection probabilities.
@@ -532,6 +553,37 @@ TEST_F(BsdfTest, ClearcoatReflectsAndAttenuatesAsLayered) {
     for (int k = 0; k < 3; ++k) {
         EXPECT_NEAR(coated[0][k], bare[0][k] * (1 - Fa), 1e-5 * bare[0][k]);
         EXPECT_NEAR(coated[0][k], back[0][k] / (1.5f * 1.5f), 1e-4 * coated[0][k]);
+    }
+}
+
+// KHR_materials_sheen: the directional albedo E(cos) = integral of D V cos_i (Charlie D,
+// Ashikhmin V) that sheenAlbedo's 8 x 16 quadrature gives the albedo scaling, against a
+// 512 x 512 midpoint rule in (cos_i, phi) in double precision, at roughnesses 0.3, 0.6, 1 and
+// angles from normal to grazing (within 1% where E < 1; the lobe's value is divided by E where
+// E > 1, so there only the order of magnitude matters).
+TEST_F(BsdfTest, SheenAlbedoQuadratureMatchesTheIntegral) {
+    for (const float roughness : {0.3f, 0.6f, 1.0f}) {
+        const double alpha = std::max(double(roughness) * roughness, 0.0049);
+        const MaterialCase m = withSheen({"", glm::vec3(0.0f), 0, 1, 0, 1.5f, true}, "sheen", kWhite, roughness);
+        for (const double cosO : {0.95, 0.6, 0.3, 0.1}) {
+            const glm::dvec3 wo(std::sqrt(1 - cosO * cosO), 0.0, cosO);
+            double E = 0.0;
+            const int k = 512;
+            for (int i = 0; i < k; ++i) {
+                const double mu = (i + 0.5) / k, s = std::sqrt(1 - mu * mu);
+                for (int j = 0; j < k; ++j) {
+                    const double phi = 2 * kPi * (j + 0.5) / k;
+                    const glm::dvec3 wi(s * std::cos(phi), s * std::sin(phi), mu);
+                    const glm::dvec3 h = glm::normalize(wo + wi);
+                    const double D = (2 + 1 / alpha) * std::pow(1 - h.z * h.z, 0.5 / alpha) / (2 * kPi);
+                    const double V = 1 / (4 * (mu + cosO - mu * cosO));
+                    E += D * V * mu * (1.0 / k) * (2 * kPi / k);
+                }
+            }
+            const float quadrature = infoAll(m, woAt(cosO))[2].z;
+            std::printf("  roughness %.1f cos %.2f: E %.4f, quadrature %.4f\n", roughness, cosO, E, quadrature);
+            EXPECT_NEAR(quadrature, E, E < 1.0 ? 0.01 * E : 0.1 * E) << "roughness " << roughness << ", cos " << cosO;
+        }
     }
 }
 

@@ -910,6 +910,18 @@ TEST(GltfLoader, SpecularExtensionAndTexturedBlend) {
         c.doc["materials"][0]["extensions"]["KHR_materials_clearcoat"]["clearcoatFactor"] = 1.5;
         expectLoadError(c.writeGltf(dir, "clearcoat-bad"), "clearcoatFactor");
     }
+    {
+        // KHR_materials_sheen: colour and roughness; a colour out of [0, 1] fails.
+        GltfBuilder c = basicScene();
+        c.useExtension("KHR_materials_sheen");
+        c.doc["materials"][0]["extensions"]["KHR_materials_sheen"] = {
+            {"sheenColorFactor", {0.5, 0.6, 0.7}}, {"sheenRoughnessFactor", 0.4}};
+        const Scene cs = loadQuietly(c.writeGltf(dir, "sheen"));
+        EXPECT_EQ(cs.materials[0].sheenColor, glm::vec3(0.5f, 0.6f, 0.7f));
+        EXPECT_FLOAT_EQ(cs.materials[0].sheenRoughness, 0.4f);
+        c.doc["materials"][0]["extensions"]["KHR_materials_sheen"]["sheenColorFactor"] = {0.5, 1.5, 0.7};
+        expectLoadError(c.writeGltf(dir, "sheen-bad"), "sheenColorFactor");
+    }
     for (const auto& [key, value, what] :
          {std::tuple{"specularFactor", json(1.5), "specularFactor"},
           std::tuple{"specularColorFactor", json({1.0, -1.0, 1.0}), "specularColorFactor"},
