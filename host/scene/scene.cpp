@@ -68,8 +68,14 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
 
 uint32_t sceneFeatures(const Scene& scene) {
     uint32_t features = 0;
-    bool glossy = false, transmission = false;
+    bool glossy = false, transmission = false, blend = false, thin = false, specular = false,
+         clearcoat = false, sheen = false;
     for (const gpu::Material& m : scene.materials) {
+        blend = blend || (m.flags & gpu::MATERIAL_BLEND) != 0;
+        thin = thin || ((m.flags & gpu::MATERIAL_THIN_WALLED) != 0 && m.transmission > 0.0f);
+        specular = specular || (m.flags & gpu::MATERIAL_SPECULAR) != 0;
+        clearcoat = clearcoat || m.clearcoat > 0.0f;
+        sheen = sheen || m.sheenColor != glm::vec3(0.0f);
         if (m.normalTexture != 0) features |= gpu::SCENE_FEATURE_NORMAL_MAPS;
         if (m.alphaCutoff > 0.0f) features |= gpu::SCENE_FEATURE_ALPHA_MASKS;
         if (m.absorption != glm::vec3(0.0f)) features |= gpu::SCENE_FEATURE_ABSORPTION;
@@ -78,6 +84,11 @@ uint32_t sceneFeatures(const Scene& scene) {
     }
     if (!glossy) features |= gpu::SCENE_FEATURE_NO_GLOSSY;
     if (!transmission) features |= gpu::SCENE_FEATURE_NO_TRANSMISSION;
+    if (!blend) features |= gpu::SCENE_FEATURE_NO_BLEND;
+    if (!thin) features |= gpu::SCENE_FEATURE_NO_THIN;
+    if (!specular) features |= gpu::SCENE_FEATURE_NO_SPECULAR;
+    if (!clearcoat) features |= gpu::SCENE_FEATURE_NO_CLEARCOAT;
+    if (!sheen) features |= gpu::SCENE_FEATURE_NO_SHEEN;
     if (!scene.triangleEmission.empty()) features |= gpu::SCENE_FEATURE_EMISSIVE_TEXTURES;
     if (scene.tangents.size() != scene.vertices.size()) features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
     return features;

@@ -19,6 +19,11 @@ bool sceneHasAlphaMasks() { return (kSceneFeatures & SCENE_FEATURE_ALPHA_MASKS) 
 bool sceneHasAbsorption() { return (kSceneFeatures & SCENE_FEATURE_ABSORPTION) != 0u; }
 bool sceneHasGlossy() { return (kSceneFeatures & SCENE_FEATURE_NO_GLOSSY) == 0u; }
 bool sceneHasTransmission() { return (kSceneFeatures & SCENE_FEATURE_NO_TRANSMISSION) == 0u; }
+bool sceneHasBlend() { return (kSceneFeatures & SCENE_FEATURE_NO_BLEND) == 0u; }
+bool sceneHasThin() { return (kSceneFeatures & SCENE_FEATURE_NO_THIN) == 0u; }
+bool sceneHasSpecular() { return (kSceneFeatures & SCENE_FEATURE_NO_SPECULAR) == 0u; }
+bool sceneHasClearcoat() { return (kSceneFeatures & SCENE_FEATURE_NO_CLEARCOAT) == 0u; }
+bool sceneHasSheen() { return (kSceneFeatures & SCENE_FEATURE_NO_SHEEN) == 0u; }
 // Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
 // per-lane addresses is a loop over the lanes for every word. A Vertex is VERTEX_TEXELS float
@@ -263,12 +268,13 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     int mrTexture = int(m.metallicRoughnessTexture) - 1;
     int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
     int transmissionTexture = int(m.transmissionTexture) - 1;
-    int specularTexture = int(m.specularTexture) - 1;
-    int specularColorTexture = int(m.specularColorTexture) - 1;
-    int clearcoatTexture = int(m.clearcoatTexture) - 1;
-    int clearcoatRoughnessTexture = int(m.clearcoatRoughnessTexture) - 1;
-    int sheenColorTexture = int(m.sheenColorTexture) - 1;
-    int sheenRoughnessTexture = int(m.sheenRoughnessTexture) - 1;
+    // The extensions' textures only in scenes with the extension (their texels not fetched else).
+    int specularTexture = sceneHasSpecular() ? int(m.specularTexture) - 1 : -1;
+    int specularColorTexture = sceneHasSpecular() ? int(m.specularColorTexture) - 1 : -1;
+    int clearcoatTexture = sceneHasClearcoat() ? int(m.clearcoatTexture) - 1 : -1;
+    int clearcoatRoughnessTexture = sceneHasClearcoat() ? int(m.clearcoatRoughnessTexture) - 1 : -1;
+    int sheenColorTexture = sceneHasSheen() ? int(m.sheenColorTexture) - 1 : -1;
+    int sheenRoughnessTexture = sceneHasSheen() ? int(m.sheenRoughnessTexture) - 1 : -1;
     // Bit w set: the material has texture kind w (0 base colour, 1 metallicRoughness, 2 normal,
     // 3 transmission, 4 specular, 5 specular colour, 6 clearcoat, 7 clearcoat roughness, 8 sheen
     // colour, 9 sheen roughness); each pass takes the lowest kind left.
@@ -320,7 +326,7 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     if (sceneHasNormalMaps() && normalTexture >= 0) {
         r.shadingNormal = normalMapped(s, normalTexel, m.normalScale);
     }
-    r.coverage = (m.flags & MATERIAL_BLEND) != 0u ? m.coverage * alpha : 1.0;
+    r.coverage = sceneHasBlend() && (m.flags & MATERIAL_BLEND) != 0u ? m.coverage * alpha : 1.0;
     return r;
 }
 

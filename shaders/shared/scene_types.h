@@ -185,7 +185,18 @@ PMCR_CONST uint SCENE_FEATURE_ABSORPTION = 8u;         // a material absorbs ins
 PMCR_CONST uint SCENE_FEATURE_NO_GLOSSY = 16u;
 // Set when no material transmits (transmission 0): the glass lobe's code is compiled out.
 PMCR_CONST uint SCENE_FEATURE_NO_TRANSMISSION = 32u;
-PMCR_CONST uint SCENE_FEATURES_LACKS = SCENE_FEATURE_NO_GLOSSY | SCENE_FEATURE_NO_TRANSMISSION;
+// Set when no material has the issue 41 material features: BLEND coverage, thin-walled
+// transmission, KHR_materials_specular, _clearcoat, _sheen. Their code is then compiled out
+// (lavapipe runs both sides of a branch, so a sheen's quadrature would cost every scene).
+PMCR_CONST uint SCENE_FEATURE_NO_BLEND = 64u;
+PMCR_CONST uint SCENE_FEATURE_NO_THIN = 128u;
+PMCR_CONST uint SCENE_FEATURE_NO_SPECULAR = 256u;
+PMCR_CONST uint SCENE_FEATURE_NO_CLEARCOAT = 512u;
+PMCR_CONST uint SCENE_FEATURE_NO_SHEEN = 1024u;
+PMCR_CONST uint SCENE_FEATURES_LACKS = SCENE_FEATURE_NO_GLOSSY | SCENE_FEATURE_NO_TRANSMISSION |
+                                       SCENE_FEATURE_NO_BLEND | SCENE_FEATURE_NO_THIN |
+                                       SCENE_FEATURE_NO_SPECULAR | SCENE_FEATURE_NO_CLEARCOAT |
+                                       SCENE_FEATURE_NO_SHEEN;
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.

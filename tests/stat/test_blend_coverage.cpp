@@ -53,38 +53,49 @@ Scene cardScene() {
 
 class BlendCoverage : public GpuTest {};
 
-// Path tracing's image mean over independent renders is 0.7 (within four standard errors of
-// the mean over renders), and every method's mean image matches path tracing's per pixel
-// (Sidak-corrected z-test, at least 99.75% of pixels pass). The per-pixel comparison is against
-// path-traced renders rather than the exact 0.7: each sample is 0 or 1 and the samplers
-// stratify the choice, so a pixel's renders take two values only and an exact reference (of no
-// variance) would leave the z-test with the two-point variance of the method's renders alone.
-TEST_F(BlendCoverage, CardOfAlphaPointThreeTransmitsSeventyPercentForEveryMethod) {
+constexpr int kWidth = 12, kHeight = 8, kRenders = 16;
+constexpr uint32_t kSpp = 8;
+
+// Independent path-traced renders of the card scene (the reference of both tests).
+ImageMoments ptRenders(const Scene& scene) {
+    return renderMoments(scene, renderSettings("pt", kWidth, kHeight, kSpp, 4), kRenders, 5000);
+}
+
+// Path tracing's image mean over independent renders is 0.7, within four standard errors of the
+// mean over renders.
+TEST_F(BlendCoverage, CardOfAlphaPointThreeTransmitsSeventyPercent) {
     const Scene scene = cardScene();
-    const int width = 12, height = 8, renders = 16;
-    const uint32_t spp = 8;
-    const ImageMoments reference = renderMoments(scene, renderSettings("pt", width, height, spp, 4), renders, 5000);
+    const ImageMoments reference = ptRenders(scene);
     double sum = 0.0, sumSq = 0.0;
     const std::vector<float> mean = reference.mean(), variance = reference.variance();
     for (size_t i = 1; i < mean.size(); i += 3) {
         sum += mean[i];
         sumSq += variance[i];
     }
-    const double pixels = double(width * height);
+    const double pixels = double(kWidth * kHeight);
     const double imageMeanOfRenders = sum / pixels;
     // The pixels' estimates are independent: the image mean's variance over renders is the sum
     // of their variances over pixels^2, divided by the renders averaged.
-    const double standardError = std::sqrt(sumSq / (pixels * pixels) / renders);
-    std::printf("  pt image mean over %d renders: %.5f +- %.5f (expected %.2f)\n", renders,
+    const double standardError = std::sqrt(sumSq / (pixels * pixels) / kRenders);
+    std::printf("  pt image mean over %d renders: %.5f +- %.5f (expected %.2f)\n", kRenders,
                 imageMeanOfRenders, standardError, 1.0 - kCoverage);
     EXPECT_NEAR(imageMeanOfRenders, 1.0 - kCoverage, 4.0 * standardError + 1e-4);
+}
 
+// Every method's mean image matches path tracing's per pixel (Sidak-corrected z-test, at least
+// 99.75% of pixels pass). The comparison is against path-traced renders rather than the exact
+// 0.7: each sample is 0 or 1 and the samplers stratify the choice, so a pixel's renders take two
+// values only and an exact reference (of no variance) would leave the z-test with the two-point
+// variance of the method's renders alone.
+TEST_F(BlendCoverage, EveryMethodMatchesPathTracingPerPixel) {
+    const Scene scene = cardScene();
+    const ImageMoments reference = ptRenders(scene);
     int tested = 0;
     for (const MethodInfo& method : methods()) {
         if (!method.create) continue;  // planned, not implemented
         SCOPED_TRACE(method.name);
-        const RenderSettings s = renderSettings(method.name, width, height, spp, 4);
-        const PixelTestResult r = zTestRenders(scene, s, renders, 1000, reference);
+        const RenderSettings s = renderSettings(method.name, kWidth, kHeight, kSpp, 4);
+        const PixelTestResult r = zTestRenders(scene, s, kRenders, 1000, reference);
         const glm::dvec3 m = imageMean(renderForTest(scene, s).output.image);
         std::printf("  %-14s image mean %.4f; %s\n", method.name.c_str(), m.y, r.describe().c_str());
         EXPECT_GE(r.passFraction, 0.9975) << r.describe();
