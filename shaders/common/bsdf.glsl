@@ -226,6 +226,16 @@ void bsdfSetSheen(inout Bsdf b, vec3 color, float roughness, vec3 wo) {
     b.sheenAlbedoO = sheenAlbedo(b.sheenAlpha, abs(wo.z));
 }
 
+// The same material seen from direction wo on side frontSide, for callers that reuse a Bsdf
+// made for another wo (a bidirectional method turning a vertex around): what makeBsdf,
+// bsdfSetClearcoat and bsdfSetSheen derived from the side and from wo follows it (eta, the
+// clear coat's side, the sheen's albedo at wo).
+void bsdfSetOutgoing(inout Bsdf b, bool frontSide, vec3 wo) {
+    b.eta = b.thin ? 1.0 : frontSide ? b.ior : 1.0 / b.ior;
+    b.clearcoatFront = frontSide;
+    if (bsdfHasSheen(b)) b.sheenAlbedoO = sheenAlbedo(b.sheenAlpha, abs(wo.z));
+}
+
 // The share of the lobes below the sheen kept for (wo, wi): min(1 - max(C) E(|cos_o|),
 // 1 - max(C) E(|cos_i|)) (the extension's sheen albedo scaling), at least 0.
 float sheenScaling(Bsdf b, float albedoI) {

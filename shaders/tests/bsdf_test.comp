@@ -64,7 +64,10 @@ void main() {
     } else if (push.mode == 1u) {
         vec3 wo = inputs[2u * i].xyz;
         vec3 wi = inputs[2u * i + 1u].xyz;
-        b = material(wo);
+        // The material made for push.wo, turned to this wo (bsdfSetOutgoing: what a
+        // bidirectional method does), which the sampled directions' values and reciprocity
+        // check against a material made for each wo.
+        bsdfSetOutgoing(b, push.frontSide != 0u, wo);
         results[i] = vec4(bsdfEval(b, wo, wi), bsdfPdf(b, wo, wi));
     } else {
         results[0] = lobeSelectProbabilities(b, push.wo);
