@@ -49,6 +49,8 @@ constexpr size_t kMaxMessage = 300;
 const std::set<std::string> kSupportedExtensions = {"KHR_materials_emissive_strength",
                                                     "KHR_materials_transmission",
                                                     "KHR_materials_ior", "KHR_materials_volume",
+                                                    "KHR_materials_specular", "KHR_materials_clearcoat",
+                                                    "KHR_materials_sheen",
                                                     "KHR_lights_punctual", "KHR_texture_transform",
                                                     "KHR_xmp"};  // metadata (authorship, licence)
 
@@ -718,17 +720,16 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         m.emissiveTexture = uint32_t(texture(src.emissiveTexture, "emissiveTexture") + 1);
     }
     // alphaMode (glTF 2.0 sec. 3.9.5): MASK cuts the surface where alpha = baseColorFactor.a *
-    // the base colour texture's alpha is below alphaCutoff. BLEND (partial coverage, a
-    // rasterizer's compositing) is rendered as MASK with the default cutoff.
-    if (src.alphaMode == "MASK" || src.alphaMode == "BLEND") {
-        double cutoff = 0.5;
-        if (src.alphaMode == "MASK") {
-            cutoff = number(src.alphaCutoff, "alphaCutoff", 0, HUGE_VAL);
-        } else {
-            ignoreFor("alphaMode BLEND is rendered as MASK with alphaCutoff 0.5 (no partial "
-                      "coverage)",
-                      name);
-        }
+    // the base colour texture's alpha is below alphaCutoff. BLEND is partial coverage: the
+    // surface is there with probability alpha and a ray passes on otherwise (MATERIAL_BLEND,
+    // shaders/common/bsdf.glsl LOBE_PASS), which is what a rasterizer's compositing averages.
+    if (src.alphaMode == "BLEND") {
+        const double alpha = number(pbr.baseColorFactor[3], "baseColorFactor", 0, 1);
+        m.flags |= gpu::MATERIAL_BLEND;
+        m.coverage = float(alpha);
+        if (alpha == 0.0) m_invisible[size_t(index)] = true;  // no texture can bring it back
+    } else if (src.alphaMode == "MASK") {
+        const double cutoff = number(src.alphaCutoff, "alphaCutoff", 0, HUGE_VAL);
         const double alpha = number(pbr.baseColorFactor[3], "baseColorFactor", 0, 1);
         if (m.baseColorTexture >= 0 && cutoff > 0.0) {
             // Compared with the texture's alpha alone; above 1 everything is cut.
@@ -753,23 +754,86 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         m.emission[c] = number(e * strength, "emission", 0, FLT_MAX);
     }
 
+    // An extension's texture (a textureInfo object, as tinygltf parses the core ones: index,
+    // texCoord, extensions): its index in Scene::textures + 1, 0 when absent or left out.
+    auto extensionTexture = [&](const tinygltf::Value& ext, const char* extensionName,
+                                const char* key) -> uint32_t {
+        if (!ext.Has(key)) return 0;
+        const tinygltf::Value& t = ext.Get(key);
+        if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsNumber())
+            error(label + ": " + extensionName + "." + key + " needs an index");
+        tinygltf::TextureInfo info;
+        info.index = int(t.Get("index").GetNumberAsDouble());
+        info.texCoord = int(member(t, key, "texCoord", 0.0));
+        if (t.Has("extensions") && t.Get("extensions").IsObject()) {
+            const tinygltf::Value& extensions = t.Get("extensions");
+            for (const std::string& k : extensions.Keys()) info.extensions[k] = extensions.Get(k);
+        }
+        return uint32_t(texture(info, key) + 1);
+    };
     if (const tinygltf::Value* ext = extension("KHR_materials_transmission")) {
         m.transmission = number(member(*ext, "KHR_materials_transmission", "transmissionFactor", 0),
                                 "transmissionFactor", 0, 1);
-        if (ext->Has("transmissionTexture")) {
-            // A textureInfo object, as tinygltf parses the core ones: index, texCoord, extensions.
-            const tinygltf::Value& t = ext->Get("transmissionTexture");
-            if (!t.IsObject() || !t.Has("index") || !t.Get("index").IsNumber())
-                error(label + ": KHR_materials_transmission.transmissionTexture needs an index");
-            tinygltf::TextureInfo info;
-            info.index = int(t.Get("index").GetNumberAsDouble());
-            info.texCoord = int(member(t, "transmissionTexture", "texCoord", 0.0));
-            if (t.Has("extensions") && t.Get("extensions").IsObject()) {
-                const tinygltf::Value& extensions = t.Get("extensions");
-                for (const std::string& key : extensions.Keys()) info.extensions[key] = extensions.Get(key);
+        m.transmissionTexture = extensionTexture(*ext, "KHR_materials_transmission", "transmissionTexture");
+    }
+    // KHR_materials_specular: the strength (specularFactor times specularTexture's alpha) and
+    // F0 colour (specularColorFactor times specularColorTexture, sRGB) of the dielectric
+    // reflection (shaders/common/bsdf.glsl coatFresnel).
+    if (const tinygltf::Value* ext = extension("KHR_materials_specular")) {
+        m.flags |= gpu::MATERIAL_SPECULAR;
+        m.specular = float(number(member(*ext, "KHR_materials_specular", "specularFactor", 1.0),
+                                  "specularFactor", 0, 1));
+        m.specularColor = glm::vec3(1.0f);
+        if (ext->Has("specularColorFactor")) {
+            const tinygltf::Value& value = ext->Get("specularColorFactor");
+            if (!value.IsArray() || value.ArrayLen() != 3)
+                error(label + ": KHR_materials_specular.specularColorFactor needs 3 numbers");
+            for (int c = 0; c < 3; ++c) {
+                const tinygltf::Value& v = value.Get(c);
+                if (!v.IsNumber()) error(label + ": specularColorFactor must hold numbers");
+                m.specularColor[c] = float(number(v.GetNumberAsDouble(), "specularColorFactor", 0, 1e6));
             }
-            m.transmissionTexture = uint32_t(texture(info, "transmissionTexture") + 1);
         }
+        m.specularTexture = extensionTexture(*ext, "KHR_materials_specular", "specularTexture");
+        m.specularColorTexture = extensionTexture(*ext, "KHR_materials_specular", "specularColorTexture");
+    }
+    // KHR_materials_clearcoat: a GGX coat of ior 1.5 over the material (shaders/common/bsdf.glsl
+    // LOBE_CLEARCOAT): its factor (times clearcoatTexture's red) and roughness (times
+    // clearcoatRoughnessTexture's green). The coat shares the material's shading normal.
+    if (const tinygltf::Value* ext = extension("KHR_materials_clearcoat")) {
+        m.clearcoat = float(number(member(*ext, "KHR_materials_clearcoat", "clearcoatFactor", 0.0),
+                                   "clearcoatFactor", 0, 1));
+        m.clearcoatRoughness =
+            float(number(member(*ext, "KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0),
+                         "clearcoatRoughnessFactor", 0, 1));
+        m.clearcoatTexture = extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatTexture");
+        m.clearcoatRoughnessTexture =
+            extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatRoughnessTexture");
+        if (ext->Has("clearcoatNormalTexture")) {
+            ignoreFor("KHR_materials_clearcoat.clearcoatNormalTexture is ignored (the coat takes "
+                      "the material's shading normal)",
+                      name);
+        }
+        if (m.clearcoat == 0.0f) m.clearcoatTexture = 0;  // no coat, whatever the texture
+    }
+    // KHR_materials_sheen: the Charlie sheen lobe over the material (shaders/common/bsdf.glsl
+    // LOBE_SHEEN): sheenColorFactor (times sheenColorTexture, sRGB) and sheenRoughnessFactor
+    // (times sheenRoughnessTexture's alpha). Black: no sheen.
+    if (const tinygltf::Value* ext = extension("KHR_materials_sheen")) {
+        if (ext->Has("sheenColorFactor")) {
+            const tinygltf::Value& value = ext->Get("sheenColorFactor");
+            if (!value.IsArray() || value.ArrayLen() != 3)
+                error(label + ": KHR_materials_sheen.sheenColorFactor needs 3 numbers");
+            for (int c = 0; c < 3; ++c) {
+                const tinygltf::Value& v = value.Get(c);
+                if (!v.IsNumber()) error(label + ": sheenColorFactor must hold numbers");
+                m.sheenColor[c] = float(number(v.GetNumberAsDouble(), "sheenColorFactor", 0, 1));
+            }
+        }
+        m.sheenRoughness = float(number(member(*ext, "KHR_materials_sheen", "sheenRoughnessFactor", 0.0),
+                                        "sheenRoughnessFactor", 0, 1));
+        m.sheenColorTexture = extensionTexture(*ext, "KHR_materials_sheen", "sheenColorTexture");
+        m.sheenRoughnessTexture = extensionTexture(*ext, "KHR_materials_sheen", "sheenRoughnessTexture");
     }
     m.ior = 1.5f;
     if (const tinygltf::Value* ext = extension("KHR_materials_ior")) {
@@ -805,13 +869,10 @@ gpu::Material GltfLoader::convertMaterial(int index) {
             }
         }
     }
-    if (m.transmission > 0.0f && thickness == 0.0) {
-        ignoreFor(
-            "transmission without KHR_materials_volume thickness is thin-walled in glTF; "
-            "pmcr renders it as a solid refractive interface",
-            name);
-    }
-    m.flags = src.doubleSided ? gpu::MATERIAL_DOUBLE_SIDED : 0u;
+    // Without a volume (or with thicknessFactor 0) transmission is thin-walled
+    // (KHR_materials_volume: "thicknessFactor 0 means the material is thin-walled"): a sheet.
+    if (m.transmission > 0.0f && thickness == 0.0) m.flags |= gpu::MATERIAL_THIN_WALLED;
+    if (src.doubleSided) m.flags |= gpu::MATERIAL_DOUBLE_SIDED;
     return m;
 }
 

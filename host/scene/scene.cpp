@@ -34,9 +34,13 @@ bool isFinite(const glm::vec3& v) {
 
 // Whether material m has a GGX lobe (shaders/common/bsdf.glsl makeBsdf): its alpha = roughness^2
 // is not below SMOOTH_ALPHA (or a texture may make it so) and it has a conductor, glass, or
-// coated base part (the base is Lambertian alone at roughness 1).
+// coated base part (the base is Lambertian alone at roughness 1), or a rough clear coat.
 bool hasGlossyLobe(const gpu::Material& m) {
     if (m.metallicRoughnessTexture != 0) return true;
+    // A rough clear coat (KHR_materials_clearcoat), or one a texture may make rough.
+    if (m.clearcoat > 0.0f && (m.clearcoatRoughnessTexture != 0 ||
+                               m.clearcoatRoughness * m.clearcoatRoughness >= gpu::SMOOTH_ALPHA))
+        return true;
     if (m.roughness * m.roughness < gpu::SMOOTH_ALPHA) return false;
     return m.metallic > 0.0f || m.transmission > 0.0f || m.roughness < 1.0f;
 }
@@ -64,8 +68,14 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
 
 uint32_t sceneFeatures(const Scene& scene) {
     uint32_t features = 0;
-    bool glossy = false, transmission = false;
+    bool glossy = false, transmission = false, blend = false, thin = false, specular = false,
+         clearcoat = false, sheen = false;
     for (const gpu::Material& m : scene.materials) {
+        blend = blend || (m.flags & gpu::MATERIAL_BLEND) != 0;
+        thin = thin || ((m.flags & gpu::MATERIAL_THIN_WALLED) != 0 && m.transmission > 0.0f);
+        specular = specular || (m.flags & gpu::MATERIAL_SPECULAR) != 0;
+        clearcoat = clearcoat || m.clearcoat > 0.0f;
+        sheen = sheen || m.sheenColor != glm::vec3(0.0f);
         if (m.normalTexture != 0) features |= gpu::SCENE_FEATURE_NORMAL_MAPS;
         if (m.alphaCutoff > 0.0f) features |= gpu::SCENE_FEATURE_ALPHA_MASKS;
         if (m.absorption != glm::vec3(0.0f)) features |= gpu::SCENE_FEATURE_ABSORPTION;
@@ -74,6 +84,11 @@ uint32_t sceneFeatures(const Scene& scene) {
     }
     if (!glossy) features |= gpu::SCENE_FEATURE_NO_GLOSSY;
     if (!transmission) features |= gpu::SCENE_FEATURE_NO_TRANSMISSION;
+    if (!blend) features |= gpu::SCENE_FEATURE_NO_BLEND;
+    if (!thin) features |= gpu::SCENE_FEATURE_NO_THIN;
+    if (!specular) features |= gpu::SCENE_FEATURE_NO_SPECULAR;
+    if (!clearcoat) features |= gpu::SCENE_FEATURE_NO_CLEARCOAT;
+    if (!sheen) features |= gpu::SCENE_FEATURE_NO_SHEEN;
     if (!scene.triangleEmission.empty()) features |= gpu::SCENE_FEATURE_EMISSIVE_TEXTURES;
     if (scene.tangents.size() != scene.vertices.size()) features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
     return features;

@@ -10,6 +10,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
+#include <stb_image_write.h>  // implemented in host/image/image.cpp
 
 #include "core/error.h"
 
@@ -62,6 +63,20 @@ public:
         return int(m_accessors.size()) - 1;
     }
 
+    int addVec2(int buffer, const std::vector<glm::vec2>& data) {
+        m_accessors.push_back({{"bufferView", addView(buffer, data.data(),
+                                                      data.size() * sizeof(glm::vec2), kArrayBuffer)},
+                               {"componentType", kFloat},
+                               {"count", data.size()},
+                               {"type", "VEC2"}});
+        return int(m_accessors.size()) - 1;
+    }
+
+    // A buffer view of raw bytes (an embedded image: no target, section 3.6.2.4).
+    int addBytes(int buffer, const std::vector<uint8_t>& data) {
+        return addView(buffer, data.data(), data.size(), 0);
+    }
+
     int addIndices(int buffer, const std::vector<uint32_t>& data) {
         m_accessors.push_back(
             {{"bufferView",
@@ -86,8 +101,8 @@ private:
         const size_t offset = bytes.size();
         bytes.resize(offset + size);
         std::memcpy(bytes.data() + offset, data, size);
-        m_views.push_back(
-            {{"buffer", buffer}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
+        m_views.push_back({{"buffer", buffer}, {"byteOffset", offset}, {"byteLength", size}});
+        if (target != 0) m_views.back()["target"] = target;
         return int(m_views.size()) - 1;
     }
 
@@ -97,10 +112,15 @@ private:
 };
 
 Json materialJson(const MaterialDesc& m, std::set<std::string>& extensionsUsed) {
-    Json pbr = {{"baseColorFactor", {m.baseColor.x, m.baseColor.y, m.baseColor.z, 1.0}},
+    Json pbr = {{"baseColorFactor", {m.baseColor.x, m.baseColor.y, m.baseColor.z, m.alpha}},
                 {"metallicFactor", m.metallic},
                 {"roughnessFactor", m.roughness}};
+    if (m.baseColorTexture >= 0) pbr["baseColorTexture"] = {{"index", m.baseColorTexture}};
     Json json = {{"name", m.name}, {"pbrMetallicRoughness", pbr}};
+    if (m.blend) {
+        json["alphaMode"] = "BLEND";
+        json["doubleSided"] = true;
+    }
     Json extensions = Json::object();
     // emissiveFactor is limited to [0, 1]; larger radiance goes into
     // KHR_materials_emissive_strength (emission = emissiveFactor * emissiveStrength).
@@ -117,7 +137,19 @@ Json materialJson(const MaterialDesc& m, std::set<std::string>& extensionsUsed) 
         extensions["KHR_materials_ior"] = {{"ior", m.ior}};
         // A volume (thicknessFactor > 0) makes the mesh a solid refracting body rather than a
         // thin-walled surface.
-        extensions["KHR_materials_volume"] = {{"thicknessFactor", 1.0}};
+        if (!m.thinWalled) extensions["KHR_materials_volume"] = {{"thicknessFactor", 1.0}};
+    }
+    if (m.specular >= 0.0) {
+        extensions["KHR_materials_specular"] = {{"specularFactor", m.specular},
+                                                {"specularColorFactor", vec3Json(m.specularColor)}};
+    }
+    if (m.clearcoat > 0.0) {
+        extensions["KHR_materials_clearcoat"] = {{"clearcoatFactor", m.clearcoat},
+                                                 {"clearcoatRoughnessFactor", m.clearcoatRoughness}};
+    }
+    if (m.sheenColor != glm::dvec3(0.0)) {
+        extensions["KHR_materials_sheen"] = {{"sheenColorFactor", vec3Json(m.sheenColor)},
+                                             {"sheenRoughnessFactor", m.sheenRoughness}};
     }
     if (!extensions.empty()) {
         for (const auto& item : extensions.items())
@@ -218,6 +250,7 @@ std::filesystem::path writeScene(const SceneDesc& scene, const std::filesystem::
             Json attributes = {{"POSITION", buffer.addVec3(target, mesh.positions, true)}};
             if (!mesh.normals.empty())
                 attributes["NORMAL"] = buffer.addVec3(target, mesh.normals, false);
+            if (!mesh.uvs.empty()) attributes["TEXCOORD_0"] = buffer.addVec2(target, mesh.uvs);
             return Shared{target, attributes, buffer.addIndices(target, mesh.indices)};
         };
         Shared data;
@@ -236,6 +269,21 @@ std::filesystem::path writeScene(const SceneDesc& scene, const std::filesystem::
         nodes.push_back({{"name", mesh.name}, {"mesh", int(meshes.size()) - 1}});
     }
     nodes.push_back(cameraNode(scene.camera, 0));
+    // Textures: PNG images in the scene's own buffer, the default sampler (bilinear, repeat).
+    Json images = Json::array(), textures = Json::array();
+    for (const TextureDesc& t : scene.textures) {
+        if (t.width <= 0 || t.height <= 0 || t.rgba.size() != size_t(t.width) * t.height * 4)
+            fail(file, "texture '" + t.name + "' has the wrong number of texels");
+        std::vector<uint8_t> png;
+        auto append = [](void* context, void* data, int size) {
+            auto* out = static_cast<std::vector<uint8_t>*>(context);
+            out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+        };
+        if (!stbi_write_png_to_func(append, &png, t.width, t.height, 4, t.rgba.data(), t.width * 4))
+            fail(file, "cannot encode texture '" + t.name + "'");
+        images.push_back({{"name", t.name}, {"bufferView", buffer.addBytes(0, png)}, {"mimeType", "image/png"}});
+        textures.push_back({{"source", int(images.size()) - 1}});
+    }
     if (buffer.bytes(0).empty())
         fail(file, "the scene has no geometry of its own");
 
@@ -254,6 +302,10 @@ std::filesystem::path writeScene(const SceneDesc& scene, const std::filesystem::
     root["nodes"] = std::move(nodes);
     root["meshes"] = std::move(meshes);
     root["materials"] = std::move(materials);
+    if (!textures.empty()) {
+        root["textures"] = std::move(textures);
+        root["images"] = std::move(images);
+    }
     // No aspectRatio: the viewport's aspect ratio is used (section 5.13), so --width/--height
     // can change the image shape without distortion.
     root["cameras"] = Json::array(

@@ -19,7 +19,7 @@ namespace pmcr::scenegen {
 
 // A material as pmcr interprets glTF (shaders/shared/scene_types.h, Material):
 // non-metal with roughness 1 = Lambertian; metallic 1 roughness 0 = mirror;
-// transmission 1 + volume = smooth glass of the given ior.
+// transmission 1 + volume = smooth glass of the given ior; without the volume, a thin sheet.
 struct MaterialDesc {
     std::string name;
     glm::dvec3 baseColor{1.0};
@@ -27,7 +27,25 @@ struct MaterialDesc {
     double roughness = 1.0;
     double transmission = 0.0;  // > 0 writes KHR_materials_transmission, _ior and _volume
     double ior = 1.5;
+    bool thinWalled = false;    // transmission without KHR_materials_volume (a sheet)
     glm::dvec3 emission{0.0};  // radiance; written as emissiveFactor * emissive_strength
+    int baseColorTexture = -1;  // index into SceneDesc::textures (read through TEXCOORD_0)
+    bool blend = false;         // alphaMode BLEND, of coverage `alpha` (times the texture's alpha)
+    double alpha = 1.0;         // baseColorFactor's alpha
+    double specular = -1.0;     // >= 0 writes KHR_materials_specular with specularFactor
+    glm::dvec3 specularColor{1.0};  // and specularColorFactor
+    double clearcoat = 0.0;     // > 0 writes KHR_materials_clearcoat (factor, roughness)
+    double clearcoatRoughness = 0.0;
+    glm::dvec3 sheenColor{0.0};  // non-zero writes KHR_materials_sheen (colour, roughness)
+    double sheenRoughness = 0.0;
+};
+
+// An RGBA8 image (rows top to bottom), embedded in the scene as a PNG.
+struct TextureDesc {
+    std::string name;
+    int width = 0;
+    int height = 0;
+    std::vector<uint8_t> rgba;
 };
 
 struct CameraDesc {
@@ -57,6 +75,7 @@ struct SceneDesc {
     int paperHeight = 0;
     std::string environment;  // extras.pmcr.environment: the --env it is lit by when none is given
     std::vector<MaterialDesc> materials;
+    std::vector<TextureDesc> textures;
     std::vector<ObjectDesc> objects;
     CameraDesc camera;
 };

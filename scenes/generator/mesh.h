@@ -15,6 +15,7 @@ struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;  // empty: flat shading (the geometric normal)
+    std::vector<glm::vec2> uvs;      // empty: none (TEXCOORD_0; (0, 0) the image's top-left)
     std::vector<uint32_t> indices;   // three per triangle
 
     size_t triangleCount() const { return indices.size() / 3; }

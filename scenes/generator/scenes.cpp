@@ -226,6 +226,10 @@ const std::vector<SceneEntry>& sceneCatalog() {
         {"sky-spheres",
          "four spheres (diffuse, plastic, gold, glass) on the ground, for --env sky-afternoon.exr",
          skySpheres, ""},
+        {"sky-materials",
+         "thin and frosted panes, a BLEND leaf card, clear-coated paint, sheen cloth, tinted "
+         "specular plastic, for --env sky-afternoon.exr",
+         skyMaterials, ""},
         {"lamp-room",
          "PMC-IP/HI fig. 1, 10: furnished room lit mostly indirectly by a shaded floor lamp",
          lampRoom, ""},

@@ -30,6 +30,7 @@ SceneDesc checkersTwoLights(const SceneContext&);
 SceneDesc plantShadows(const SceneContext&);
 SceneDesc glassCausticTorus(const SceneContext&);
 SceneDesc skySpheres(const SceneContext&);
+SceneDesc skyMaterials(const SceneContext&);
 SceneDesc lampRoom(const SceneContext&);
 SceneDesc dragonDirect(const SceneContext& context);
 SceneDesc dragonCaustic(const SceneContext& context);

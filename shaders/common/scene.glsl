@@ -19,6 +19,11 @@ bool sceneHasAlphaMasks() { return (kSceneFeatures & SCENE_FEATURE_ALPHA_MASKS) 
 bool sceneHasAbsorption() { return (kSceneFeatures & SCENE_FEATURE_ABSORPTION) != 0u; }
 bool sceneHasGlossy() { return (kSceneFeatures & SCENE_FEATURE_NO_GLOSSY) == 0u; }
 bool sceneHasTransmission() { return (kSceneFeatures & SCENE_FEATURE_NO_TRANSMISSION) == 0u; }
+bool sceneHasBlend() { return (kSceneFeatures & SCENE_FEATURE_NO_BLEND) == 0u; }
+bool sceneHasThin() { return (kSceneFeatures & SCENE_FEATURE_NO_THIN) == 0u; }
+bool sceneHasSpecular() { return (kSceneFeatures & SCENE_FEATURE_NO_SPECULAR) == 0u; }
+bool sceneHasClearcoat() { return (kSceneFeatures & SCENE_FEATURE_NO_CLEARCOAT) == 0u; }
+bool sceneHasSheen() { return (kSceneFeatures & SCENE_FEATURE_NO_SHEEN) == 0u; }
 // Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
 // per-lane addresses is a loop over the lanes for every word. A Vertex is VERTEX_TEXELS float
@@ -48,8 +53,14 @@ Material materialAt(uint i) {
     vec4 d = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 3u)));
     uvec4 e = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 4u));
     uvec4 f = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 5u));
+    vec4 g = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 6u)));
+    uvec4 h = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 7u));
+    vec4 k = uintBitsToFloat(texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 8u)));
+    uvec4 l = texelFetch(materialTexels, int(MATERIAL_TEXELS * i + 9u));
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
-                    c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x), f.y, f.z, f.w);
+                    c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x),
+                    uintBitsToFloat(f.y), f.z, f.w, g.xyz, g.w, uintBitsToFloat(h.x),
+                    uintBitsToFloat(h.y), h.z, h.w, k.xyz, k.w, l.x, l.y, l.z, l.w);
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -218,7 +229,8 @@ vec3 normalMapped(SurfacePoint s, vec3 texel, float scale) {
 // A material's base colour, metallic, roughness and transmission at s, and its shading normal:
 // its factors, times its textures (glTF 2.0 section 3.9.2: baseColorTexture, sRGB;
 // metallicRoughnessTexture's blue and green channels, linear; normalTexture, linear,
-// normalMapped; KHR_materials_transmission's transmissionTexture, its red channel). The lookups
+// normalMapped; KHR_materials_transmission's transmissionTexture, its red channel), and its
+// coverage (alphaMode BLEND: Material::coverage times the base colour texture's alpha). The lookups
 // run in a loop over the textures the material has, not under one if per texture: lavapipe runs
 // both sides of an if whatever its lanes take, and a loop's body once (masked) and then only
 // while a lane is still in it, so every vector pays for one lookup and only vectors with two
@@ -230,6 +242,13 @@ struct MaterialSample {
     float roughness;
     float transmission;
     vec3 shadingNormal;
+    float coverage;  // 1 unless alphaMode BLEND
+    float specular;        // KHR_materials_specular (MATERIAL_SPECULAR): weight and F0 tint,
+    vec3 specularColor;    // times their textures
+    float clearcoat;       // KHR_materials_clearcoat, times their textures
+    float clearcoatRoughness;
+    vec3 sheenColor;       // KHR_materials_sheen, times their textures
+    float sheenRoughness;
 };
 
 MaterialSample materialTextures(Material m, SurfacePoint s) {
@@ -239,13 +258,31 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     r.roughness = m.roughness;
     r.transmission = m.transmission;
     r.shadingNormal = s.shadingNormal;
+    r.specular = m.specular;
+    r.specularColor = m.specularColor;
+    r.clearcoat = m.clearcoat;
+    r.clearcoatRoughness = m.clearcoatRoughness;
+    r.sheenColor = m.sheenColor;
+    r.sheenRoughness = m.sheenRoughness;
+    float alpha = 1.0;
     int mrTexture = int(m.metallicRoughnessTexture) - 1;
     int normalTexture = sceneHasNormalMaps() ? int(m.normalTexture) - 1 : -1;
     int transmissionTexture = int(m.transmissionTexture) - 1;
+    // The extensions' textures only in scenes with the extension (their texels not fetched else).
+    int specularTexture = sceneHasSpecular() ? int(m.specularTexture) - 1 : -1;
+    int specularColorTexture = sceneHasSpecular() ? int(m.specularColorTexture) - 1 : -1;
+    int clearcoatTexture = sceneHasClearcoat() ? int(m.clearcoatTexture) - 1 : -1;
+    int clearcoatRoughnessTexture = sceneHasClearcoat() ? int(m.clearcoatRoughnessTexture) - 1 : -1;
+    int sheenColorTexture = sceneHasSheen() ? int(m.sheenColorTexture) - 1 : -1;
+    int sheenRoughnessTexture = sceneHasSheen() ? int(m.sheenRoughnessTexture) - 1 : -1;
     // Bit w set: the material has texture kind w (0 base colour, 1 metallicRoughness, 2 normal,
-    // 3 transmission); each pass takes the lowest kind left.
+    // 3 transmission, 4 specular, 5 specular colour, 6 clearcoat, 7 clearcoat roughness, 8 sheen
+    // colour, 9 sheen roughness); each pass takes the lowest kind left.
     uint left = (m.baseColorTexture >= 0 ? 1u : 0u) | (mrTexture >= 0 ? 2u : 0u) |
-                (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u);
+                (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u) |
+                (specularTexture >= 0 ? 16u : 0u) | (specularColorTexture >= 0 ? 32u : 0u) |
+                (clearcoatTexture >= 0 ? 64u : 0u) | (clearcoatRoughnessTexture >= 0 ? 128u : 0u) |
+                (sheenColorTexture >= 0 ? 256u : 0u) | (sheenRoughnessTexture >= 0 ? 512u : 0u);
     int count = bitCount(left);
     vec3 normalTexel = vec3(0.5, 0.5, 1.0);
     for (int k = 0; k < count; ++k) {
@@ -254,22 +291,42 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
         int index = which == 0   ? m.baseColorTexture
                     : which == 1 ? mrTexture
                     : which == 2 ? normalTexture
-                                 : transmissionTexture;
-        vec3 t = sampleTexture(index, s.uv, which == 0);
+                    : which == 3 ? transmissionTexture
+                    : which == 4 ? specularTexture
+                    : which == 5 ? specularColorTexture
+                    : which == 6 ? clearcoatTexture
+                    : which == 7 ? clearcoatRoughnessTexture
+                    : which == 8 ? sheenColorTexture
+                                 : sheenRoughnessTexture;
+        vec4 t = sampleTextureRgba(index, s.uv, which == 0 || which == 5 || which == 8);
         if (which == 0) {
-            r.baseColor *= t;
+            r.baseColor *= t.rgb;
+            alpha = t.a;
         } else if (which == 1) {
             r.metallic *= t.b;
             r.roughness *= t.g;
         } else if (which == 2) {
-            normalTexel = t;
-        } else {
+            normalTexel = t.rgb;
+        } else if (which == 3) {
             r.transmission *= t.r;
+        } else if (which == 4) {
+            r.specular *= t.a;
+        } else if (which == 5) {
+            r.specularColor *= t.rgb;
+        } else if (which == 6) {
+            r.clearcoat *= t.r;
+        } else if (which == 7) {
+            r.clearcoatRoughness *= t.g;
+        } else if (which == 8) {
+            r.sheenColor *= t.rgb;
+        } else {
+            r.sheenRoughness *= t.a;
         }
     }
     if (sceneHasNormalMaps() && normalTexture >= 0) {
         r.shadingNormal = normalMapped(s, normalTexel, m.normalScale);
     }
+    r.coverage = sceneHasBlend() && (m.flags & MATERIAL_BLEND) != 0u ? m.coverage * alpha : 1.0;
     return r;
 }
 

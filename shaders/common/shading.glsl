@@ -25,11 +25,23 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
     MaterialSample ms = materialTextures(m, s);
     sh.frame = frameFromNormal(sh.front ? ms.shadingNormal : -ms.shadingNormal);
     sh.woLocal = toLocal(sh.frame, wo);
-    sh.bsdf = makeBsdf(ms.baseColor, ms.metallic, ms.roughness, ms.transmission, m.ior, sh.front);
+    // The issue 41 features under their scene feature bits, so that a scene without them runs
+    // code without them (constants the compiler folds through the BSDF).
+    sh.bsdf = makeBsdf(ms.baseColor, ms.metallic, ms.roughness, ms.transmission, m.ior, sh.front,
+                       sceneHasThin() && (m.flags & MATERIAL_THIN_WALLED) != 0u, ms.coverage);
+    if (sceneHasSpecular() && (m.flags & MATERIAL_SPECULAR) != 0u)
+        bsdfSetSpecular(sh.bsdf, ms.specular, ms.specularColor);
+    if (sceneHasClearcoat() && m.clearcoat > 0.0)
+        bsdfSetClearcoat(sh.bsdf, ms.clearcoat, ms.clearcoatRoughness);
+    if (sceneHasSheen() && maxComponent(m.sheenColor) > 0.0)
+        bsdfSetSheen(sh.bsdf, ms.sheenColor, ms.sheenRoughness, sh.woLocal);
     // In a scene without GGX lobes (SCENE_FEATURE_NO_GLOSSY) every alpha that matters is below
     // SMOOTH_ALPHA, and without transmission every glass weight is 0: as constants they let the
     // compiler drop the microfacet code, or the glass lobe's, from every kernel.
-    if (!sceneHasGlossy()) sh.bsdf.alpha = 0.0;
+    if (!sceneHasGlossy()) {
+        sh.bsdf.alpha = 0.0;
+        sh.bsdf.clearcoatAlpha = 0.0;
+    }
     if (!sceneHasTransmission()) sh.bsdf.wDielectric = 0.0;
     return sh;
 }

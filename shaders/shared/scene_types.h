@@ -108,13 +108,23 @@ PMCR_CHECK_SIZE(BvhQuery, 32);
 
 // Material flags.
 PMCR_CONST uint MATERIAL_DOUBLE_SIDED = 1u;   // emits from both faces; two-sided shading
+// Transmission is thin-walled (KHR_materials_transmission without KHR_materials_volume): the
+// glass lobe is a thin sheet, light leaves it where it entered (bsdf.glsl header).
+PMCR_CONST uint MATERIAL_THIN_WALLED = 2u;
+// alphaMode BLEND: coverage (alpha) = Material::coverage times the base colour texture's alpha;
+// the ray passes through with probability 1 - coverage (bsdf.glsl LOBE_PASS).
+PMCR_CONST uint MATERIAL_BLEND = 4u;
+// KHR_materials_specular: the coat's Fresnel is weighted by `specular` and its F0 tinted by
+// `specularColor` (bsdf.glsl coatFresnel); without the flag both are ignored (and may be 0).
+PMCR_CONST uint MATERIAL_SPECULAR = 8u;
 
 // The glTF metallic-roughness model as pmcr interprets it (shaders/common/bsdf.glsl makeBsdf):
 // a mixture of up to three lobes with weights
 //   conductor  = metallic                         (GGX, Schlick F0 = baseColor; mirror at roughness 0)
 //   dielectric = (1 - metallic) * transmission    (smooth or GGX rough glass, tinted by baseColor)
 //   base       = (1 - metallic) * (1 - transmission):
-//                Lambertian when roughness == 1, else Lambertian under a GGX dielectric coat.
+//                Lambertian when roughness == 1, else Lambertian under a GGX dielectric coat,
+// all times the BLEND coverage, beside a pass-through delta of weight 1 - coverage.
 // Textures are numbered from 0 (baseColorTexture, -1 for none) or from 1 (the others, 0 for
 // none, so that a zero-initialised Material has none). All of a material's textures read the
 // same texture coordinates (the vertices' uv).
@@ -130,21 +140,35 @@ struct Material {
     // Absorption coefficient (per unit length) of the medium inside a transmissive material
     // (KHR_materials_volume: -ln(attenuationColor) / attenuationDistance; Beer-Lambert); 0: none.
     vec3 absorption;
-    // alphaMode MASK (and BLEND, rendered as MASK): the surface is cut away where the base
-    // colour texture's alpha is below alphaCutoff (alphaCutoff / baseColorFactor's alpha, so
-    // that it compares with the texture alone). 0: opaque. Applied in traversal (IsectTriangle).
+    // alphaMode MASK: the surface is cut away where the base colour texture's alpha is below
+    // alphaCutoff (alphaCutoff / baseColorFactor's alpha, so that it compares with the texture
+    // alone). 0: opaque. Applied in traversal (IsectTriangle).
     float alphaCutoff;
     uint metallicRoughnessTexture;  // index + 1, 0 for none (linear; blue metal, green rough)
     uint normalTexture;    // index + 1, 0 for none (tangent space, MikkTSpace convention)
     uint emissiveTexture;  // index + 1, 0 for none (sRGB; emission is multiplied by it)
     uint transmissionTexture;  // index + 1, 0 for none (linear; transmission times its red)
     float normalScale;     // normalTexture.scale: the tangent-space normal's x and y scale
+    float coverage;        // alphaMode BLEND (MATERIAL_BLEND): baseColorFactor's alpha
+    uint specularTexture;  // index + 1, 0 for none (KHR_materials_specular; its alpha, linear)
+    uint specularColorTexture;  // index + 1, 0 for none (sRGB; specularColor times its rgb)
+    vec3 specularColor;    // KHR_materials_specular specularColorFactor (MATERIAL_SPECULAR)
+    float specular;        // its specularFactor
+    // KHR_materials_clearcoat: a GGX coat of ior 1.5 over everything (bsdf.glsl); 0: none.
+    float clearcoat;       // clearcoatFactor (times clearcoatTexture's red)
+    float clearcoatRoughness;  // clearcoatRoughnessFactor (times its texture's green)
+    uint clearcoatTexture;     // index + 1, 0 for none (linear)
+    uint clearcoatRoughnessTexture;  // index + 1, 0 for none (linear)
+    // KHR_materials_sheen: the Charlie sheen lobe over the base (bsdf.glsl); black: none.
+    vec3 sheenColor;       // sheenColorFactor (times sheenColorTexture, sRGB)
+    float sheenRoughness;  // sheenRoughnessFactor (times its texture's alpha)
+    uint sheenColorTexture;      // index + 1, 0 for none
+    uint sheenRoughnessTexture;  // index + 1, 0 for none (linear; alpha)
     uint pad0;
     uint pad1;
-    uint pad2;
 };
-PMCR_CHECK_SIZE(Material, 96);
-PMCR_CONST uint MATERIAL_TEXELS = 6;
+PMCR_CHECK_SIZE(Material, 160);
+PMCR_CONST uint MATERIAL_TEXELS = 10;
 // Below this GGX alpha (roughness^2) a lobe is perfectly smooth, a delta, as pbrt-v4 does.
 PMCR_CONST float SMOOTH_ALPHA = 1e-3f;
 
@@ -161,7 +185,18 @@ PMCR_CONST uint SCENE_FEATURE_ABSORPTION = 8u;         // a material absorbs ins
 PMCR_CONST uint SCENE_FEATURE_NO_GLOSSY = 16u;
 // Set when no material transmits (transmission 0): the glass lobe's code is compiled out.
 PMCR_CONST uint SCENE_FEATURE_NO_TRANSMISSION = 32u;
-PMCR_CONST uint SCENE_FEATURES_LACKS = SCENE_FEATURE_NO_GLOSSY | SCENE_FEATURE_NO_TRANSMISSION;
+// Set when no material has the issue 41 material features: BLEND coverage, thin-walled
+// transmission, KHR_materials_specular, _clearcoat, _sheen. Their code is then compiled out
+// (lavapipe runs both sides of a branch, so a sheen's quadrature would cost every scene).
+PMCR_CONST uint SCENE_FEATURE_NO_BLEND = 64u;
+PMCR_CONST uint SCENE_FEATURE_NO_THIN = 128u;
+PMCR_CONST uint SCENE_FEATURE_NO_SPECULAR = 256u;
+PMCR_CONST uint SCENE_FEATURE_NO_CLEARCOAT = 512u;
+PMCR_CONST uint SCENE_FEATURE_NO_SHEEN = 1024u;
+PMCR_CONST uint SCENE_FEATURES_LACKS = SCENE_FEATURE_NO_GLOSSY | SCENE_FEATURE_NO_TRANSMISSION |
+                                       SCENE_FEATURE_NO_BLEND | SCENE_FEATURE_NO_THIN |
+                                       SCENE_FEATURE_NO_SPECULAR | SCENE_FEATURE_NO_CLEARCOAT |
+                                       SCENE_FEATURE_NO_SHEEN;
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.

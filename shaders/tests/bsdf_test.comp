@@ -5,7 +5,9 @@
 //           results[2i] = (wi, pdf), results[2i + 1] = (f, ok + 2 delta + 4 lobe)
 //   mode 1: results[i] = (bsdfEval, bsdfPdf) at wo = inputs[2i].xyz, wi = inputs[2i + 1].xyz
 //   mode 2 (one invocation): results[0] = lobeSelectProbabilities(wo),
-//           results[1] = (fresnelDielectric(wo.z, eta), eta, bsdfHasNonDelta, 0)
+//           results[1] = (dielectricReflectance(wo.z), eta, bsdfHasNonDelta, wPass),
+//           results[2] = (clearcoatLobeProbability, clearcoatAttenuation(wo), max(C) E(wo),
+//                        sheenLobeProbability)
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/host_device.h"
@@ -27,13 +29,30 @@ layout(push_constant, scalar) uniform Push {
     float transmission;
     float ior;
     vec3 wo;
+    uint thin;
+    float coverage;
+    float specularWeight;  // KHR_materials_specular; negative: none
+    vec3 specularColor;
+    float clearcoat;       // KHR_materials_clearcoat; 0: none
+    float clearcoatRoughness;
+    vec3 sheenColor;       // KHR_materials_sheen; black: none
+    float sheenRoughness;
 } push;
+
+// The material for outgoing direction wo (the sheen's albedo at wo is part of it).
+Bsdf material(vec3 wo) {
+    Bsdf b = makeBsdf(push.baseColor, push.metallic, push.roughness, push.transmission, push.ior,
+                      push.frontSide != 0u, push.thin != 0u, push.coverage);
+    if (push.specularWeight >= 0.0) bsdfSetSpecular(b, push.specularWeight, push.specularColor);
+    if (push.clearcoat > 0.0) bsdfSetClearcoat(b, push.clearcoat, push.clearcoatRoughness);
+    if (maxComponent(push.sheenColor) > 0.0) bsdfSetSheen(b, push.sheenColor, push.sheenRoughness, wo);
+    return b;
+}
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.count) return;
-    Bsdf b = makeBsdf(push.baseColor, push.metallic, push.roughness, push.transmission, push.ior,
-                      push.frontSide != 0u);
+    Bsdf b = material(push.wo);
     if (push.mode == 0u) {
         Rng rng = rngCreate(hashCombine(i, push.seed));
         float uLobe = rngNext(rng);
@@ -45,10 +64,16 @@ void main() {
     } else if (push.mode == 1u) {
         vec3 wo = inputs[2u * i].xyz;
         vec3 wi = inputs[2u * i + 1u].xyz;
+        // The material made for push.wo, turned to this wo (bsdfSetOutgoing: what a
+        // bidirectional method does), which the sampled directions' values and reciprocity
+        // check against a material made for each wo.
+        bsdfSetOutgoing(b, push.frontSide != 0u, wo);
         results[i] = vec4(bsdfEval(b, wo, wi), bsdfPdf(b, wo, wi));
     } else {
         results[0] = lobeSelectProbabilities(b, push.wo);
-        results[1] = vec4(fresnelDielectric(push.wo.z, b.eta), b.eta,
-                          bsdfHasNonDelta(b) ? 1.0 : 0.0, 0.0);
+        results[1] = vec4(dielectricReflectance(b, push.wo.z), b.eta,
+                          bsdfHasNonDelta(b) ? 1.0 : 0.0, b.wPass);
+        results[2] = vec4(clearcoatLobeProbability(b, push.wo), clearcoatAttenuation(b, push.wo),
+                          b.sheenAlbedoO, sheenLobeProbability(b, push.wo));
     }
 }

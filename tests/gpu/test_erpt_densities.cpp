@@ -35,6 +35,8 @@ namespace {
 
 constexpr uint32_t kMaxVertices = gpu::CHAIN_MAX_VERTICES;
 constexpr int kSize = 32;  // image side of the recorded paths
+constexpr uint32_t kLobeDielectric = 4;  // bsdf.glsl LOBE_DIELECTRIC
+constexpr uint32_t kLobePass = 5;        // bsdf.glsl LOBE_PASS
 
 struct DensityPush {
     uint32_t mode;
@@ -81,6 +83,22 @@ Scene cornellGlassWithPointLight() {
     l.intensity = glm::vec3(glm::dot(size, size));
     s.punctualLights = {l};
     s.path = "cornell-glass-point-light.glb";
+    finalizeScene(s);
+    return s;
+}
+
+// cornell-glass with its glass material given `flags` (thin-walled, BLEND) and `coverage`.
+Scene cornellGlassAs(uint32_t flags, float coverage, const char* name) {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    int changed = 0;
+    for (gpu::Material& m : s.materials) {
+        if (m.transmission <= 0.0f) continue;
+        m.flags |= flags;
+        m.coverage = coverage;
+        ++changed;
+    }
+    EXPECT_GE(changed, 1) << "cornell-glass has a glass material";
+    s.path = name;
     finalizeScene(s);
     return s;
 }
@@ -241,6 +259,8 @@ protected:
 
     // Detailed balance of the caustic perturbation on a recorded path (defined below).
     void expectCausticDetailedBalance(bool uniformLaw);
+    // The Jacobians against finite differences on the current scene's paths (defined below).
+    void expectJacobiansMatchFiniteDifferences(uint32_t transmitLobe);
 
     std::unique_ptr<Scene> m_scene;  // useScene's
     std::unique_ptr<RenderSession> m_session;
@@ -340,7 +360,26 @@ Jacobians jacobians(const std::vector<glm::vec4>& r, size_t o, bool caustic) {
 // rasterDensity, reconnectionFactor and the caustic Gamma against central differences, at two
 // step sizes: a path whose two estimates disagree by more than 1% is too curved (near a caustic's
 // fold, or a ray grazing an edge) for the step and is left out; most must remain.
-TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
+TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) { expectJacobiansMatchFiniteDifferences(0); }
+
+// The same through a thin sheet (thin-walled transmission: cornell-glass's sphere as a smooth
+// thin dielectric): its transmission is a specular vertex of eta 1, straight through, whose
+// etendue factor bsdfLobeEta gives; the chains cross the sphere's two walls.
+TEST_F(ErptDensities, JacobiansThroughThinGlassMatchFiniteDifferences) {
+    useScene(cornellGlassAs(gpu::MATERIAL_THIN_WALLED, 1.0f, "cornell-thin-glass.glb"));
+    expectJacobiansMatchFiniteDifferences(kLobeDielectric);
+}
+
+// And through a BLEND pass: the sphere as glass of coverage 0.5, whose pass-through is a
+// specular transmission of eta 1 beside the glass's own refraction (eta 1.5).
+TEST_F(ErptDensities, JacobiansThroughBlendCoverageMatchFiniteDifferences) {
+    useScene(cornellGlassAs(gpu::MATERIAL_BLEND, 0.5f, "cornell-blend-glass.glb"));
+    expectJacobiansMatchFiniteDifferences(kLobePass);
+}
+
+// `transmitLobe` (bsdf.glsl LOBE_*; 0: any): the checked chains must cross that lobe's
+// specular transmission.
+void ErptDensities::expectJacobiansMatchFiniteDifferences(uint32_t transmitLobe) {
     std::vector<ChainPath> all = recordPaths(4);
     std::vector<ChainPath> paths;
     int withChain = 0;
@@ -365,7 +404,7 @@ TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
         info[j] = {uint32_t(paths[j].vertices.size()), paths[j].head};
     }
     auto chain = storage(packed, "paths");
-    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    const Scene& scene = m_scene ? *m_scene : testScene("scenes/cornell-glass.glb");
     glm::vec3 lo(1e30f), hi(-1e30f);
     for (const auto& v : scene.vertices) {
         lo = glm::min(lo, v.position);
@@ -385,6 +424,16 @@ TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
     }
     auto agree = [](double a, double b, double tol) {
         return std::abs(a - b) <= tol * std::max(std::abs(a), std::abs(b));
+    };
+    // Whether the path transmits through `transmitLobe` at a specular vertex.
+    auto crosses = [&](const ChainPath& p) {
+        if (transmitLobe == 0) return true;
+        for (const gpu::ChainVertex& v : p.vertices) {
+            const uint32_t want = gpu::VERTEX_SPECULAR | gpu::VERTEX_TRANSMISSION;
+            if ((v.flags & want) == want && ((v.flags >> gpu::CHAIN_LOBE_SHIFT) & 15u) == transmitLobe)
+                return true;
+        }
+        return false;
     };
     int rasterChecked = 0, solidChecked = 0, causticChecked = 0, causticChainChecked = 0;
     double worstRaster = 0.0, worstSolid = 0.0, worstCaustic = 0.0;
@@ -409,7 +458,7 @@ TEST_F(ErptDensities, JacobiansMatchFiniteDifferences) {
         if (a.causticValid && b.causticValid && b.cosS12 > 0.05 &&
             agree(a.causticFd, b.causticFd, 0.003)) {
             ++causticChecked;
-            if (paths[j].head > 1)
+            if (paths[j].head > 1 && crosses(paths[j]))
                 ++causticChainChecked;
             const double ratio = b.causticGamma / b.cosS12 / b.causticFd;
             worstCaustic = std::max(worstCaustic, std::abs(ratio - 1.0));

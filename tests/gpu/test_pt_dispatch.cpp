@@ -133,8 +133,10 @@ TEST_F(GpuTest, PtPixelsPerInvocationLeavesTheFilmUnchanged) {
 // A scene without GGX lobes (cornell-spheres: Lambertian walls, a mirror and a glass sphere)
 // renders the same with the microfacet code compiled out (SCENE_FEATURE_NO_GLOSSY, which the
 // host sets for it) as with it compiled in, and one without glass (veach-mis: rough metal
-// plates) the same without the glass lobe (SCENE_FEATURE_NO_TRANSMISSION): bit for bit on
-// lavapipe, within float rounding where a compiler fuses the variants' multiply-adds differently.
+// plates) the same without the glass lobe (SCENE_FEATURE_NO_TRANSMISSION), and cornell-glass
+// the same without issue 41's material features (BLEND, thin sheets, specular, clear coat,
+// sheen): bit for bit on lavapipe, within float rounding where a compiler fuses the variants'
+// multiply-adds differently.
 class PtLacks : public GpuTest,
                 public ::testing::WithParamInterface<std::pair<const char*, uint32_t>> {};
 
@@ -164,7 +166,12 @@ TEST_P(PtLacks, CompilingOutWhatTheSceneLacksLeavesTheFilmUnchanged) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, PtLacks,
                          ::testing::Values(std::pair{"scenes/cornell-spheres.glb", gpu::SCENE_FEATURE_NO_GLOSSY},
-                                           std::pair{"scenes/veach-mis.glb", gpu::SCENE_FEATURE_NO_TRANSMISSION}));
+                                           std::pair{"scenes/veach-mis.glb", gpu::SCENE_FEATURE_NO_TRANSMISSION},
+                                           std::pair{"scenes/cornell-glass.glb",
+                                                     gpu::SCENE_FEATURE_NO_BLEND | gpu::SCENE_FEATURE_NO_THIN |
+                                                         gpu::SCENE_FEATURE_NO_SPECULAR |
+                                                         gpu::SCENE_FEATURE_NO_CLEARCOAT |
+                                                         gpu::SCENE_FEATURE_NO_SHEEN}));
 
 // The same for request lists (PMC-IP and PMC-PT): every request writes its own result, the same
 // bit for bit whatever the number of requests per invocation, for pixel-sequence requests and

@@ -70,7 +70,7 @@ float causticGamma(uint base, uint h) {
     // |cos_g| dA dw; a delta lobe about the shading normal n_s maps solid angle as
     // eta_in^2 |cos_s(in)| dw_in = eta_out^2 |cos_s(out)| dw_out at a fixed point (its dependence
     // on the position drops out of the determinant), so each S vertex contributes eta^2 (on a
-    // transmission) and, where n_s is not the geometric normal (interpolated normals), the
+    // refraction; 1 through a thin sheet or a BLEND pass, bsdfLobeEta) and, where n_s is not the geometric normal (interpolated normals), the
     // factor |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|), in = the light's side.
     vec3 previous = x1.position;
     for (uint i = 1u; i < h; ++i) {
@@ -79,7 +79,7 @@ float causticGamma(uint base, uint h) {
         vec3 wEye = normalize(previous - s.position);
         vec3 wLight = normalize(pathPoint(base, i + 1u).position - s.position);
         ShadingPoint sh = makeShadingPoint(s, wEye);
-        if (vertexTransmits(v)) gamma *= sqr(sh.bsdf.eta);
+        gamma *= sqr(bsdfLobeEta(sh.bsdf, vertexLobe(v), vertexTransmits(v)));
         float denominator = abs(dot(s.normal, wLight)) * abs(dot(sh.frame.n, wEye));
         if (!(denominator > 0.0)) return 0.0;
         gamma *= abs(dot(sh.frame.n, wLight)) * abs(dot(s.normal, wEye)) / denominator;

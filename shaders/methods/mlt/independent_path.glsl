@@ -59,16 +59,18 @@ PathOptions pathOptionsAt(ShadingPoint sh, vec3 wo, uint j, uint maxDepth) {
 
 // Probability that bsdfSample picks delta lobe `lobe`, reflecting or transmitting, at wo
 // (bsdf.glsl bsdfSampleDirection: the lobe's selection probability, times F or 1 - F for the
-// dielectric's choice).
+// dielectric's choice; 1 - coverage for a BLEND pass; the clear coat's share for its mirror).
 float deltaLobeProbability(Bsdf b, vec3 wo, uint lobe, bool transmit) {
     if (wo.z <= 0.0) return 0.0;
     vec4 p = lobeSelectProbabilities(b, wo);
     if (lobe == LOBE_COAT) return p.y;
     if (lobe == LOBE_CONDUCTOR) return p.z;
     if (lobe == LOBE_DIELECTRIC) {
-        float F = fresnelDielectric(wo.z, b.eta);
+        float F = dielectricReflectance(b, wo.z);
         return p.w * (transmit ? 1.0 - F : F);
     }
+    if (lobe == LOBE_PASS) return transmit ? b.wPass : 0.0;
+    if (lobe == LOBE_CLEARCOAT) return transmit ? 0.0 : clearcoatLobeProbability(b, wo);
     return 0.0;
 }
 

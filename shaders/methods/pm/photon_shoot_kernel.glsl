@@ -67,7 +67,7 @@ void main() {
             // 1 / eta^2 on transmission (bsdf.glsl divides by it for radiance), and the shading
             // normal's correction |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997 eq. 5.19).
             vec3 factor = bs.f * abs(bs.wi.z) / bs.pdf;
-            if (bs.wi.z < 0.0) factor *= sqr(sh.bsdf.eta);
+            factor *= sqr(bs.eta);
             float denom = abs(dot(wo, sh.ng)) * abs(bs.wi.z);
             factor *= denom > 0.0 ? abs(sh.woLocal.z) * abs(dot(wi, sh.ng)) / denom : 0.0;
             beta *= factor;

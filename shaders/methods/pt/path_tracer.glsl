@@ -276,7 +276,7 @@ bool pathShade(inout PathState p, Hit hit, inout Sampler smp, uint maxDepth, uin
 #endif
     if (!scattered) return false;
     p.beta *= bs.f * abs(bs.wi.z) / bs.pdf;
-    if (bs.wi.z < 0.0) p.etaScale *= sqr(sh.bsdf.eta);
+    p.etaScale *= sqr(bs.eta);
     p.prevDelta = bs.delta;
     p.prevPdf = bs.pdf;
     p.prevPosition = s.position;
