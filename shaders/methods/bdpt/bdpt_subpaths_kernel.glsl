@@ -101,11 +101,11 @@ bool walkStep(inout Walk w, inout Sampler smp, inout uint rays) {
     vec3 factor = bs.f * abs(bs.wi.z) / bs.pdf;
     if (w.light) {
         // The adjoint BSDF (bdpt_vertex.glsl shadingEvalImportance, photon_shoot_kernel.glsl).
-        if (bs.wi.z < 0.0) factor *= sqr(sh.bsdf.eta);
+        factor *= sqr(bs.eta);  // a refraction's eta; 1 for a thin sheet or a BLEND pass
         float denom = abs(dot(wo, sh.ng)) * abs(bs.wi.z);
         factor *= denom > 0.0 ? abs(sh.woLocal.z) * abs(dot(wi, sh.ng)) / denom : 0.0;
-    } else if (bs.wi.z < 0.0) {
-        w.etaScale *= sqr(sh.bsdf.eta);
+    } else {
+        w.etaScale *= sqr(bs.eta);
     }
     float pdfRev = 0.0;
     if (bs.delta) {

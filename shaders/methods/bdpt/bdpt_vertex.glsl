@@ -84,17 +84,20 @@ ShadingPoint vertexShading(BdptVertex v) {
     return makeShadingPoint(surfaceAt(v.triangle, v.barycentrics), v.wo);
 }
 
-// sh seen from direction wo instead: the side (and so the frame, the geometric normal and the
-// relative eta) follows wo (shading.glsl makeShadingPoint), without reading the material again.
+// sh seen from direction wo instead: the side (and so the frame, the geometric normal and what
+// the BSDF derives from them) follows wo (shading.glsl makeShadingPoint), without reading the
+// material again.
 ShadingPoint shadingFrom(ShadingPoint sh, vec3 wo) {
     bool front = dot(sh.surface.normal, wo) > 0.0;
     if (front != sh.front) {
         sh.front = front;
         sh.ng = -sh.ng;
         sh.frame = frameFromNormal(-sh.frame.n);
-        sh.bsdf.eta = 1.0 / sh.bsdf.eta;
     }
     sh.woLocal = toLocal(sh.frame, wo);
+    // What the BSDF derived from wo's side and direction (eta, the clear coat's side, the
+    // sheen's albedo at wo) follows it.
+    bsdfSetOutgoing(sh.bsdf, front, sh.woLocal);
     return sh;
 }
 
@@ -108,7 +111,8 @@ float shadingPdf(ShadingPoint sh, vec3 wo, vec3 wi) {
 
 // The adjoint BSDF at sh (light subpaths, pbrt-v4 TransportMode::Importance) towards wi, times
 // the shading normal's correction |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997 eq. 5.19): no
-// 1 / eta^2 on transmission (bsdf.glsl divides by it for radiance). absCos = |wi.ns|.
+// 1 / eta^2 on transmission (bsdf.glsl divides by it for radiance; the non-delta transmission
+// is the rough dielectric's, whose eta is the material's, 1 for a thin sheet). absCos = |wi.ns|.
 vec3 shadingEvalImportance(ShadingPoint sh, vec3 wi, out float absCos) {
     float pdf;
     vec3 f = shadingEval(sh, wi, pdf, absCos);
