@@ -80,10 +80,19 @@ INSTANTIATE_TEST_SUITE_P(OneScene, SceneRenders,
                          ::testing::Combine(::testing::Values("scenes/cornell-glass.glb"),
                                             ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc", "bdpt")),
                          paramName);
-INSTANTIATE_TEST_SUITE_P(EveryMethod, SceneRenders,
-                         ::testing::Combine(::testing::ValuesIn(sceneFiles()),
-                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc", "bdpt")),
-                         paramName);
+// One suite per method, so that ctest runs them as entries of their own, side by side and each
+// well within its timeout: a scene's kernels compile for its features (scene feature bits), so
+// every scene costs every method a compilation.
+INSTANTIATE_TEST_SUITE_P(EveryMethodMlt, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("mlt")), paramName);
+INSTANTIATE_TEST_SUITE_P(EveryMethodPssmlt, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("pssmlt")), paramName);
+INSTANTIATE_TEST_SUITE_P(EveryMethodPm, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("pm")), paramName);
+INSTANTIATE_TEST_SUITE_P(EveryMethodPmPmc, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("pm-pmc")), paramName);
+INSTANTIATE_TEST_SUITE_P(EveryMethodBdpt, SceneRenders,
+                         ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("bdpt")), paramName);
 
 }  // namespace
 }  // namespace pmcr::test
