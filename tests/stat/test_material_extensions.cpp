@@ -59,22 +59,8 @@ Scene newLobesScene() {
 }
 
 RenderSettings settingsFor(const std::string& method, uint32_t spp) {
-    RenderSettings s;
-    s.method = method;
-    s.width = 20;
-    s.height = 20;
-    s.spp = spp;
-    s.maxDepth = 8;
-    if (method == "erpt") {
-        s.options["chain-length"] = "20";
-        s.options["mutations-per-pixel"] = "4";
-        s.options["mutation"] = "mix";  // the caustic perturbation on every path it applies to
-    } else if (method == "mlt") {
-        s.options["mutation"] = "mix";
-        s.options["bootstrap"] = "64";  // as large as the reference's samples (test_mlt.cpp)
-    } else if (method == "pmc-hi") {
-        s.maxDepth = 1;  // direct lighting
-    }
+    RenderSettings s = chainZTestSettings(method, spp);
+    if (method == "pmc-hi") s.maxDepth = 1;  // direct lighting
     return s;
 }
 

@@ -62,6 +62,19 @@ RenderSettings renderSettings(const std::string& method, int width, int height, 
     return s;
 }
 
+RenderSettings chainZTestSettings(const std::string& method, uint32_t spp) {
+    RenderSettings s = renderSettings(method, 20, 20, spp, 8);
+    if (method == "erpt") {
+        s.options["chain-length"] = "20";
+        s.options["mutations-per-pixel"] = "4";
+        s.options["mutation"] = "mix";
+    } else if (method == "mlt") {
+        s.options["mutation"] = "mix";
+        s.options["bootstrap"] = "64";
+    }
+    return s;
+}
+
 RenderResult renderForTest(const Scene& scene, RenderSettings settings) {
     settings.quiet = true;
     resolveImageSize(scene, settings);

@@ -31,6 +31,13 @@ Scene cornellGlassUnderSkyAndSun();
 RenderSettings renderSettings(const std::string& method, int width, int height, uint32_t spp,
                               uint32_t maxDepth = RenderSettings{}.maxDepth);
 
+// The chain methods' z-test settings on a 20 x 20 image of at most 8 bounces: `method` with
+// `spp`, and for erpt and mlt the caustic perturbation on every path it applies to (mutation
+// mix; erpt's chains of 20 with 4 mutations a pixel, mlt's bootstrap as large as the
+// references' samples, tests/stat/test_mlt.cpp). Shared by the z-tests of the lights
+// (test_er_lights.cpp) and of the material extensions (test_material_extensions.cpp).
+RenderSettings chainZTestSettings(const std::string& method, uint32_t spp);
+
 // Renders `scene` with `settings` (size resolved from the scene when 0).
 RenderResult renderForTest(const Scene& scene, RenderSettings settings);
 
