@@ -35,6 +35,13 @@ struct BdptVertex {
 };
 PMCR_CHECK_SIZE(BdptVertex, 80);
 
+// The sampler dimensions of a camera sample (common/sampler.glsl): the raster position (0), the
+// camera walk from 1 (three per vertex: lobe, direction, roulette), the light subpath from
+// BDPT_LIGHT_DIMENSION (the light, its point and direction, then three per vertex), and the
+// light samples of the s = 1 connections from BDPT_CONNECT_DIMENSION (bdpt_vertex.glsl).
+#define BDPT_LIGHT_DIMENSION(maxDepth) (1u + 3u * ((maxDepth) + 2u))
+#define BDPT_CONNECT_DIMENSION(maxDepth) (BDPT_LIGHT_DIMENSION(maxDepth) + 3u + 3u * ((maxDepth) + 1u))
+
 // Strategy images (--strategy-images): the (s, t) strategies of paths of up to
 // BDPT_STRATEGY_MAX_DEPTH bounces, depth d = s + t - 2 holding s = 0 .. d + 1, indexed
 // d (d + 3) / 2 + s; per pixel and strategy the weighted and the unweighted contribution.

@@ -52,5 +52,56 @@ struct PssmltPush {
     uint flags;                // PSSMLT_FLAG_*
     float largeStepProbability;
     float sigma;               // standard deviation of a small step (Gaussian, wrapped)
+    uint cameraStride;         // over bdpt: camera subpath vertices per chain (maxDepth + 2)
+    uint lightStride;          // over bdpt: light subpath vertices per chain (maxDepth + 1)
 };
-PMCR_CHECK_SIZE(PssmltPush, 48);
+PMCR_CHECK_SIZE(PssmltPush, 56);
+
+// PSSMLT over bidirectional path tracing (--over bdpt; Kelemen et al. 2002 sec. 4 with
+// Veach 1997 ch. 10's estimator, as Mitsuba's PSSMLT): the primary vector drives one whole bdpt
+// sample (shaders/methods/bdpt/: the camera subpath, the light subpath, every strategy (s, t)
+// MIS-weighted) and F is the luminance of the sum of its contributions. Light tracing's (t = 1)
+// contributions land on other pixels than the camera sample's, so a state is a list of splats
+// (pixel, colour): its light tracing contributions, then the camera sample's pixel with the
+// t >= 2 sum. One Metropolis step is three dispatches over the chains (pssmlt_bdpt_*.comp):
+// the subpaths of the proposal, its connections into its splat list, then the expected-value
+// deposits and the acceptance.
+
+// Coordinates of a bdpt sample of up to maxDepth bounces: two per dimension of the bdpt
+// kernels' sampler (pss_sampler.glsl PSS_SAMPLER_PAIRS), which are those below
+// BDPT_CONNECT_DIMENSION, then the s = 1 light samples of camera vertices 0 .. maxDepth + 1 at
+// BDPT_CONNECT_DIMENSION + 2 (t - 1), two each (bdpt_vertex.glsl).
+#define PSSMLT_BDPT_DIMENSIONS(maxDepth) (2u * (BDPT_CONNECT_DIMENSION(maxDepth) + 2u * ((maxDepth) + 2u)))
+// Splats in a state's list: at most one per light vertex s >= 2 (t = 1) and the camera pixel's.
+#define PSSMLT_BDPT_SPLATS(maxDepth) ((maxDepth) + 2u)
+
+struct PssmltSplat {
+    vec3 rgb;    // the contribution (MIS-weighted)
+    uint pixel;
+};
+PMCR_CHECK_SIZE(PssmltSplat, 16);
+
+// The chain state over bdpt; its splat lists are at PSSMLT_BINDING_SPLATS, list 0 the current
+// state x's and list 1 the proposal y's: PssmltSplat[(2 chain + list) * PSSMLT_BDPT_SPLATS + k].
+struct PssmltBdptChain {
+    uint rng;                  // Rng state (mutations, acceptance, splat rounding)
+    uint iteration;            // accepted steps so far, plus the proposal's between its dispatches
+    uint lastLargeStep;        // the iteration of the last accepted large step
+    uint largeStep;            // 1: the proposal is a large step
+    uint currentCount;         // splats in x's list
+    uint proposalCount;        // splats in y's list
+    uint proposalPixel;        // y's camera sample pixel
+    uint pad;
+};
+PMCR_CHECK_SIZE(PssmltBdptChain, 32);
+
+// Work-set bindings of the pssmlt-over-bdpt kernels, besides 0 .. 3, 6, 7 and 9 above.
+PMCR_CONST uint PSSMLT_BINDING_CAMERA_VERTICES = 10;  // BdptVertex[chain * cameraStride + i]
+PMCR_CONST uint PSSMLT_BINDING_LIGHT_VERTICES = 11;   // BdptVertex[chain * lightStride + i]
+PMCR_CONST uint PSSMLT_BINDING_VERTEX_COUNTS = 12;    // uvec2[chain]
+PMCR_CONST uint PSSMLT_BINDING_SPLATS = 13;           // PssmltSplat[]: the chains' splat lists
+PMCR_CONST uint PSSMLT_BINDING_BDPT_CHAINS = 14;      // PssmltBdptChain[chain]
+
+// Over bdpt, with PSSMLT_FLAG_START: the chains are slots 0 .. count - 1 of bootstrap samples
+// first .. first + count - 1, whose F the last kernel writes to the weights.
+PMCR_CONST uint PSSMLT_FLAG_BOOTSTRAP = 2u;

@@ -68,7 +68,7 @@ for key in passes bootstrap_samples normalization chains mutations acceptance la
            large_step_acceptance small_step_proposed small_step_acceptance deposit_energy; do
     grep -qE "^  $key +[0-9.e+-]+$" "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks $key: $(cat "$tmp/pssmlt-stats")"
 done
-grep -qE '^  methods/pssmlt/pssmlt_chains +[0-9.]+ ms' "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks the chain kernel's GPU time"
+grep -qE '^  methods/pssmlt/pssmlt_bdpt_connect +[0-9.]+ ms' "$tmp/pssmlt-stats" || fail "pssmlt --stats lacks the connect kernel's GPU time"
 # MLT's: proposals and acceptance per mutation type, b_hat.
 "$pmcr" render "$src/scenes/cornell-glass.glb" --method mlt --spp 1 \
     --width 16 --height 16 -q --stats --no-png -o "$tmp/m.exr" >"$tmp/mlt-stats" || fail "mlt --stats render failed"

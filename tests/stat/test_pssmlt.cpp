@@ -1,4 +1,4 @@
-// PSSMLT is unbiased: with b estimated from an independent bootstrap and the chains started in
+// PSSMLT over the path tracer (--over pt) is unbiased: with b estimated from an independent bootstrap and the chains started in
 // proportion to the bootstrap weights, the mean image over independent renders equals path
 // tracing's, pixel by pixel; the furnace gives its analytic answer; every mutation deposits one
 // e_d in all; a seed gives the same image bit for bit; and every scene renders without NaN.
@@ -16,9 +16,11 @@ namespace {
 
 class PssmltTest : public GpuTest {};
 
+// Over the path tracer (--over pt); test_pssmlt_bdpt.cpp tests the default, over bdpt.
 RenderSettings pssmltSettings(int size, uint32_t spp) {
     RenderSettings s;
     s.method = "pssmlt";
+    s.options["over"] = "pt";
     s.width = size;
     s.height = size;
     s.spp = spp;

@@ -20,10 +20,64 @@ namespace {
 constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per dispatch (CPU)
 constexpr VkDeviceSize kMaxPrimaryBytes = 1ull << 30;   // primary-sample storage
 
+// What a render did, for its statistics.
+struct PssmltRun {
+    const char* over;
+    uint64_t bootstrapSamples;
+    double normalization;
+    uint32_t chains;
+    uint32_t stepsPerPass;
+    uint32_t passesPerBatch;
+    uint32_t dimensions;
+    float depositEnergy;
+    uint64_t mutations;
+};
+
+// The image on the splat film and the statistics of a render, over either estimator.
+RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const RedistributionBatch& batches,
+                          const PssmltRun& run) {
+    const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
+    RenderOutput out;
+    out.image = splat.resolve(run.depositEnergy);
+    const int passes = splat.completedPasses();
+    out.cameraSamples = uint64_t(passes) * pixels;
+    out.samplesPerPixel = passes;
+    const Counters& c = session.counters();
+    const uint64_t proposed = c.values[gpu::COUNTER_LARGE_PROPOSED] + c.values[gpu::COUNTER_SMALL_PROPOSED];
+    const uint64_t accepted = c.values[gpu::COUNTER_LARGE_ACCEPTED] + c.values[gpu::COUNTER_SMALL_ACCEPTED];
+    const double deposited = batches.depositedEnergy();
+    out.methodStats = {
+        {"over", run.over},
+        {"passes", passes},
+        {"bootstrap_samples", run.bootstrapSamples},
+        {"normalization", run.normalization},  // b_hat: the image's total luminance
+        {"chains", run.chains},
+        {"steps_per_pass", run.stepsPerPass},  // per chain
+        {"passes_per_batch", run.passesPerBatch},
+        {"dimensions", run.dimensions},
+        {"deposit_energy", run.depositEnergy},
+        {"mutations", run.mutations},
+        {"accepted", accepted},
+        {"acceptance", proposed > 0 ? double(accepted) / double(proposed) : 0.0},
+        // Each mutation deposits one e_d in all (a at y, 1 - a at x): zero up to float rounding
+        // of the sums, unless deposits were dropped.
+        {"energy_not_deposited", run.mutations > 0 ? 1.0 - deposited / double(run.mutations) : 0.0},
+    };
+    out.methodStats.update(mutationStatistics(c));
+    // ERPT's perturbations do not run here.
+    for (const char* key : {"lens_proposed", "lens_acceptance", "caustic_proposed", "caustic_acceptance",
+                            "invalid_proposals"})
+        out.methodStats.erase(key);
+    return out;
+}
+
 }  // namespace
 
 PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
     PssmltOptions o;
+    const std::string over = s.optionString("over", "bdpt");
+    if (over != "bdpt" && over != "pt") throw Error("--over: expected bdpt or pt, got '" + over + "'");
+    o.overBdpt = over == "bdpt";
     const int bootstrap = s.optionInt("bootstrap", int(o.bootstrapSpp));
     if (bootstrap < 1 || bootstrap > 4096) throw Error("--bootstrap: expected 1..4096 samples per pixel");
     o.bootstrapSpp = uint32_t(bootstrap);
@@ -57,6 +111,10 @@ uint32_t PssmltOptions::defaultPassesPerBatch(bool cpuDevice, uint64_t mutations
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
 
 RenderOutput Pssmlt::render(RenderSession& session) {
+    return m_options.overBdpt ? renderOverBdpt(session) : renderOverPt(session);
+}
+
+RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
     const PssmltOptions& o = m_options;
@@ -207,45 +265,197 @@ RenderOutput Pssmlt::render(RenderSession& session) {
     }
     session.progress().finish();
 
-    RenderOutput out;
-    out.image = splat.resolve(depositEnergy);
-    const int passes = splat.completedPasses();
-    out.cameraSamples = uint64_t(passes) * pixels;
-    out.samplesPerPixel = passes;
-    const Counters& c = session.counters();
-    const uint64_t proposed = c.values[gpu::COUNTER_LARGE_PROPOSED] + c.values[gpu::COUNTER_SMALL_PROPOSED];
-    const uint64_t accepted = c.values[gpu::COUNTER_LARGE_ACCEPTED] + c.values[gpu::COUNTER_SMALL_ACCEPTED];
-    const double deposited = batches.depositedEnergy();
-    out.methodStats = {
-        {"passes", passes},
-        {"bootstrap_samples", bootstrapSamples},
-        {"normalization", normalization},  // b_hat: the image's total luminance
-        {"chains", chains},
-        {"steps_per_pass", stepsPerPass},  // per chain
-        {"passes_per_batch", together},
-        {"dimensions", dimensions},
-        {"deposit_energy", depositEnergy},
-        {"mutations", mutations},
-        {"accepted", accepted},
-        {"acceptance", proposed > 0 ? double(accepted) / double(proposed) : 0.0},
-        // Each mutation deposits one e_d in all (a at y, 1 - a at x): zero up to float rounding
-        // of the sums, unless deposits were dropped.
-        {"energy_not_deposited", mutations > 0 ? 1.0 - deposited / double(mutations) : 0.0},
+    return pssmltOutput(session, splat, batches,
+                        {"pt", bootstrapSamples, normalization, chains, stepsPerPass, together, dimensions,
+                         depositEnergy, mutations});
+}
+
+// Over bdpt: the same bootstrap, chains, passes and deposits as over pt, a sample being one
+// bidirectional sample (shared/pssmlt_types.h) and a step three dispatches over the chains: the
+// proposal's subpaths, its connections into its splat list, the acceptance and deposits.
+RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
+    const RenderSettings& settings = session.settings();
+    vk::Context& context = session.context();
+    const PssmltOptions& o = m_options;
+    const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
+    const uint32_t spp = settings.spp > 0 ? settings.spp
+                         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
+                                                    : kDefaultSpp;
+    const uint32_t chains =
+        o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::defaultChains(context.isCpuDevice()));
+    const uint32_t dimensions = PSSMLT_BDPT_DIMENSIONS(settings.maxDepth);
+    const uint32_t cameraStride = settings.maxDepth + 2;
+    const uint32_t lightStride = settings.maxDepth + 1;
+    const uint32_t splatsPerList = PSSMLT_BDPT_SPLATS(settings.maxDepth);
+    const VkDeviceSize primaryBytes = VkDeviceSize(chains) * dimensions * sizeof(gpu::PrimarySample);
+    const VkDeviceSize vertexBytes = VkDeviceSize(chains) * (cameraStride + lightStride) * sizeof(gpu::BdptVertex);
+    if (primaryBytes + vertexBytes > kMaxPrimaryBytes)
+        throw Error("pssmlt: " + std::to_string(chains) + " chains of " + std::to_string(dimensions) +
+                    " random numbers and their subpaths need " +
+                    std::to_string((primaryBytes + vertexBytes) >> 20) +
+                    " MiB (at most 1024); lower --chains or --max-depth");
+    // One pass: about one mutation per pixel.
+    const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
+    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
+    if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
+        throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
+
+    // Build the pipelines before the clock starts (compilation is not rendering).
+    const vk::Kernel& subpathsKernel =
+        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bdpt_subpaths"));
+    const vk::Kernel& connectKernel =
+        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bdpt_connect"));
+    const vk::Kernel& stepKernel = session.kernel("methods/pssmlt/pssmlt_bdpt_step");
+    session.startClock();
+
+    Film& film = session.film();
+    SplatFilm splat(context, session.width(), session.height());
+    vk::Buffer weights(context, bootstrapSamples * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "bootstrap weights", vk::MemoryUsage::Readback);
+    vk::Buffer starts(context, VkDeviceSize(chains) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      "chain starts");
+    vk::Buffer chainStates(context, VkDeviceSize(chains) * sizeof(gpu::PssmltBdptChain),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pssmlt bdpt chains");
+    vk::Buffer primary(context, primaryBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "primary samples");
+    vk::Buffer cameraVertices(context, VkDeviceSize(chains) * cameraStride * sizeof(gpu::BdptVertex),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pssmlt camera vertices");
+    vk::Buffer lightVertices(context, VkDeviceSize(chains) * lightStride * sizeof(gpu::BdptVertex),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pssmlt light vertices");
+    vk::Buffer counts(context, VkDeviceSize(chains) * sizeof(gpu::uvec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      "pssmlt vertex counts");
+    vk::Buffer splatLists(context, VkDeviceSize(chains) * 2 * splatsPerList * sizeof(gpu::PssmltSplat),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pssmlt splat lists");
+
+    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pssmlt over bdpt");
+    work.bind(gpu::PSSMLT_BINDING_WEIGHTS, weights);
+    work.bind(gpu::PSSMLT_BINDING_CHAIN_STARTS, starts);
+    work.bind(gpu::PSSMLT_BINDING_PRIMARY_SAMPLES, primary);
+    work.bind(gpu::PSSMLT_BINDING_CAMERA_VERTICES, cameraVertices);
+    work.bind(gpu::PSSMLT_BINDING_LIGHT_VERTICES, lightVertices);
+    work.bind(gpu::PSSMLT_BINDING_VERTEX_COUNTS, counts);
+    work.bind(gpu::PSSMLT_BINDING_SPLATS, splatLists);
+    work.bind(gpu::PSSMLT_BINDING_BDPT_CHAINS, chainStates);
+    work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
+    work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
+    RedistributionBatch batches(session);
+    vk::CommandBatch& batch = batches.batch();
+    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
+
+    gpu::PssmltPush push{};
+    push.seed = settings.seed;
+    push.maxDepth = settings.maxDepth;
+    push.rrDepth = settings.rrDepth;
+    push.dimensions = dimensions;
+    push.chainStride = chains;
+    push.largeStepProbability = o.largeStepProbability;
+    push.sigma = o.sigma;
+    push.cameraStride = cameraStride;
+    push.lightStride = lightStride;
+    // One step (or start) of chains [push.first, push.first + push.count), recorded into the batch.
+    auto recordStep = [&] {
+        batch.dispatch(subpathsKernel, push, push.count);
+        batch.dispatch(connectKernel, push, push.count);
+        batch.dispatch(stepKernel, push, push.count);
     };
-    out.methodStats.update(mutationStatistics(c));
-    // ERPT's perturbations do not run here.
-    for (const char* key : {"lens_proposed", "lens_acceptance", "caustic_proposed", "caustic_acceptance",
-                            "invalid_proposals"})
-        out.methodStats.erase(key);
-    return out;
+
+    // Bootstrap: F of uniform primary vectors, W_i = F(u_i) * pixels (Veach 1997 sec. 11.3.1),
+    // each a chain slot's start, `chains` samples a dispatch.
+    const double bootstrapStart = session.elapsedSeconds();
+    bool interrupted = false;
+    for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chains) {
+        batches.begin();
+        batch.bind(work);
+        push.first = first;
+        push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
+        push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
+        recordStep();
+        batches.submit();
+        interrupted = session.interrupted();
+    }
+    MetropolisStart start;
+    if (!interrupted) {
+        std::vector<float> w = weights.download<float>(bootstrapSamples);
+        for (float& x : w) x *= float(pixels);
+        start = chooseChainStarts(w, chains, settings.seed);
+    }
+    session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
+    const double normalization = start.normalization;
+    // e_d: each pass's chains * steps deposits share b (the image's total luminance).
+    const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
+
+    uint64_t mutations = 0;
+    DispatchSizer sizer(1024, chains, session.targetDispatchSeconds());
+    // `steps` steps (or the start) of every chain, a range of chains per submission.
+    auto runChains = [&](uint32_t steps, uint32_t flags) {
+        push.flags = flags;
+        for (uint32_t c = 0; c < chains;) {
+            push.first = c;
+            push.count = std::min(sizer.units(), chains - c);
+            const auto t0 = std::chrono::steady_clock::now();
+            batches.begin();
+            batch.bind(work);
+            for (uint32_t k = 0; k < std::max(steps, 1u); ++k) recordStep();
+            batches.submit();
+            sizer.record(uint64_t(push.count) * std::max(steps, 1u),
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            c += push.count;
+        }
+    };
+    // Passes run together as over pt (renderOverPt): the image is the same bits for any count.
+    const uint32_t together = o.passesPerBatch > 0
+                                  ? o.passesPerBatch
+                                  : PssmltOptions::defaultPassesPerBatch(context.isCpuDevice(),
+                                                                         uint64_t(chains) * stepsPerPass);
+    if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
+        starts.upload(start.samples);
+        runChains(0, gpu::PSSMLT_FLAG_START);
+        PassClock clock(session);
+        for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass();) {
+            const uint32_t count = std::min(together, spp - pass);
+            if (count == 1) {
+                for (uint32_t done = 0; done < stepsPerPass;) {
+                    const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
+                    runChains(steps, 0);
+                    mutations += uint64_t(chains) * steps;
+                    done += steps;
+                    if (clock.abandon()) {
+                        interrupted = true;
+                        break;
+                    }
+                }
+            } else {
+                // All of `count` passes' steps in one submission, every chain in each dispatch.
+                batches.begin();
+                batch.bind(work);
+                push.flags = 0;
+                push.first = 0;
+                push.count = chains;
+                for (uint32_t k = 0; k < count * stepsPerPass; ++k) recordStep();
+                batches.submit();
+                mutations += uint64_t(chains) * stepsPerPass * count;
+                interrupted = clock.abandon();
+            }
+            if (interrupted) break;
+            completeRedistributionPass(session, splat, depositEnergy, pixels, pass + count - 1, spp, count);
+            clock.passDone();
+            pass += count;
+        }
+    }
+    session.progress().finish();
+    return pssmltOutput(session, splat, batches,
+                        {"bdpt", bootstrapSamples, normalization, chains, stepsPerPass, together, dimensions,
+                         depositEnergy, mutations});
 }
 
 MethodInfo pssmltMethod() {
     return {"pssmlt",
-            "primary-sample-space MLT (Kelemen et al. 2002) over the path tracer; large steps make it "
-            "ergodic over everything pt samples",
+            "primary-sample-space MLT (Kelemen et al. 2002) over bdpt (--over pt: the path tracer); large "
+            "steps make it ergodic over everything its estimator samples",
             true,
-            {{"bootstrap", "4", "path-traced samples per pixel estimating b and starting the chains"},
+            {{"over", "bdpt",
+              "the estimator the chains drive: bdpt (one camera and one light subpath, every strategy "
+              "MIS-weighted; Kelemen et al. 2002 as Mitsuba's PSSMLT) or pt (the path tracer)"},
+             {"bootstrap", "4", "samples per pixel (of the --over estimator) estimating b and starting the chains"},
              {"chains", "0", "chains in parallel (0: one per pixel, at most 4096 on a CPU device, 65536 on a GPU)"},
              {"large-step", "0.3", "probability of a large step (every random number drawn anew)"},
              {"sigma", "0.01", "small step: standard deviation of the wrapped Gaussian offset"},

@@ -1,7 +1,10 @@
 // Primary-sample-space Metropolis light transport (Kelemen, Szirmay-Kalos, Antal and Csonka
-// 2002) over the path tracer. A chain's state is the vector of the path tracer's random numbers
-// (shared/pssmlt_types.h); its target is F(u) = lum(L(u)), L(u) the path tracer's whole estimate
-// for u (every NEE and MIS-weighted emission term). Small steps add a wrapped Gaussian offset of
+// 2002) over bidirectional path tracing (--over bdpt, the default, as Mitsuba's PSSMLT) or the
+// path tracer (--over pt). A chain's state is the vector of the estimator's random numbers
+// (shared/pssmlt_types.h); its target is F(u) = lum(L(u)), L(u) the estimator's whole estimate
+// for u: over pt every NEE and MIS-weighted emission term of one path; over bdpt every
+// MIS-weighted strategy (s, t) of one camera and one light subpath, light tracing's (t = 1)
+// landing on other pixels than the camera sample's, so that a state is a list of splats. Small steps add a wrapped Gaussian offset of
 // --sigma to every coordinate, large steps (probability --large-step) draw them anew; both are
 // symmetric, so a = min(1, F(y) / F(x)) (shaders/methods/pssmlt/).
 //
@@ -22,6 +25,7 @@
 namespace pmcr {
 
 struct PssmltOptions {
+    bool overBdpt = true;                // --over bdpt (default) or pt: the estimator of a sample
     uint32_t bootstrapSpp = 4;           // bootstrap samples per pixel
     uint32_t chains = 0;                 // 0: min(pixels, defaultChains(device))
     float largeStepProbability = 0.3f;   // Kelemen et al. 2002 sec. 4: p_large
@@ -53,6 +57,9 @@ public:
     uint32_t defaultSpp() const override { return kDefaultSpp; }
 
 private:
+    RenderOutput renderOverPt(RenderSession& session);
+    RenderOutput renderOverBdpt(RenderSession& session);
+
     PssmltOptions m_options;
 };
 

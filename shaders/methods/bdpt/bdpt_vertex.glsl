@@ -13,21 +13,26 @@
 #include "common/punctual_sampling.glsl"
 #include "common/shading.glsl"
 
-layout(set = WORK_SET, binding = BDPT_BINDING_CAMERA_VERTICES, scalar) buffer CameraVertexBuffer {
+// The vertex buffers' bindings: bdpt's unless the kernel names others (pssmlt over bdpt).
+#ifndef CAMERA_VERTICES_BINDING
+#define CAMERA_VERTICES_BINDING BDPT_BINDING_CAMERA_VERTICES
+#define LIGHT_VERTICES_BINDING BDPT_BINDING_LIGHT_VERTICES
+#define VERTEX_COUNTS_BINDING BDPT_BINDING_COUNTS
+#endif
+layout(set = WORK_SET, binding = CAMERA_VERTICES_BINDING, scalar) buffer CameraVertexBuffer {
     BdptVertex cameraVertices[];
 };
-layout(set = WORK_SET, binding = BDPT_BINDING_LIGHT_VERTICES, scalar) buffer LightVertexBuffer {
+layout(set = WORK_SET, binding = LIGHT_VERTICES_BINDING, scalar) buffer LightVertexBuffer {
     BdptVertex lightVertices[];
 };
-layout(set = WORK_SET, binding = BDPT_BINDING_COUNTS, scalar) buffer CountBuffer { uvec2 vertexCounts[]; };
+layout(set = WORK_SET, binding = VERTEX_COUNTS_BINDING, scalar) buffer CountBuffer { uvec2 vertexCounts[]; };
 
-// The sampler dimensions of a camera sample (common/sampler.glsl): the raster position (0), the
-// camera walk from 1 (three per vertex: lobe, direction, roulette), the light subpath from
-// bdptLightDimension (the light, its point and direction, then three per vertex), and the light
-// samples of the s = 1 connections from bdptConnectDimension (two per camera vertex), so that no
-// part's numbers depend on another part's length.
-uint bdptLightDimension(uint maxDepth) { return 1u + 3u * (maxDepth + 2u); }
-uint bdptConnectDimension(uint maxDepth) { return bdptLightDimension(maxDepth) + 3u + 3u * (maxDepth + 1u); }
+// The sampler dimensions of a camera sample (shared/bdpt_types.h BDPT_LIGHT_DIMENSION): the
+// raster position (0), the camera walk from 1, the light subpath from bdptLightDimension, and
+// the light samples of the s = 1 connections from bdptConnectDimension (two apart per camera
+// vertex), so that no part's numbers depend on another part's length.
+uint bdptLightDimension(uint maxDepth) { return BDPT_LIGHT_DIMENSION(maxDepth); }
+uint bdptConnectDimension(uint maxDepth) { return BDPT_CONNECT_DIMENSION(maxDepth); }
 
 BdptVertex bdptVertex(uint type) {
     return BdptVertex(vec3(0.0), type, vec3(0.0), 0u, vec3(0.0), 0.0, vec3(0.0), 0.0, vec2(0.0), 0u, 0.0);

@@ -10,8 +10,8 @@
 // set in this iteration goes back to its backup and the iteration number is reused.
 //
 // Defines the Sampler of shaders/methods/pt/path_tracer.glsl (PMCR_CUSTOM_SAMPLER): include this
-// file before it. The including kernel declares nothing else at
-// PSSMLT_BINDING_PRIMARY_SAMPLES.
+// file before it. With PSS_SAMPLER_PAIRS it is the Sampler of the bdpt kernels instead. The
+// including kernel declares nothing else at PSSMLT_BINDING_PRIMARY_SAMPLES.
 #ifndef PMCR_PSS_SAMPLER_GLSL
 #define PMCR_PSS_SAMPLER_GLSL
 
@@ -34,11 +34,9 @@ struct Sampler {
     Rng rng;
 };
 
-// Brings coordinate `dimension` up to date for this iteration (pbrt-v3 MLTSampler::EnsureReady)
-// and returns it.
-float pssCoordinate(inout Sampler s) {
-    uint d = s.dimension;
-    s.dimension += 1u;
+// Brings coordinate d up to date for this iteration (pbrt-v3 MLTSampler::EnsureReady) and
+// returns it.
+float pssCoordinateAt(inout Sampler s, uint d) {
     // Beyond the storage (never with dimensions = PSSMLT_DIMENSIONS(maxDepth)): a fresh number.
     if (d >= s.dimensions) return rngNext(s.rng);
     uint index = d * s.stride + s.chain;
@@ -58,12 +56,34 @@ float pssCoordinate(inout Sampler s) {
     return x.value;
 }
 
+#ifdef PSS_SAMPLER_PAIRS
+// A dimension is a pair of coordinates, 2 d and 2 d + 1, whether the caller draws one number or
+// two: the dimensions of common/sampler.glsl, which the bdpt kernels address (bdpt_vertex.glsl).
+float samplerGet1D(inout Sampler s) {
+    s.dimension += 1u;
+    return pssCoordinateAt(s, 2u * s.dimension - 2u);
+}
+
+vec2 samplerGet2D(inout Sampler s) {
+    s.dimension += 1u;
+    float u = pssCoordinateAt(s, 2u * s.dimension - 2u);
+    return vec2(u, pssCoordinateAt(s, 2u * s.dimension - 1u));
+}
+#else
+// Coordinate `dimension`, the next one.
+float pssCoordinate(inout Sampler s) {
+    uint d = s.dimension;
+    s.dimension += 1u;
+    return pssCoordinateAt(s, d);
+}
+
 float samplerGet1D(inout Sampler s) { return pssCoordinate(s); }
 
 vec2 samplerGet2D(inout Sampler s) {
     float u = pssCoordinate(s);
     return vec2(u, pssCoordinate(s));
 }
+#endif
 
 // Starts a proposal: iteration + 1, a large step with probability `largeStepProbability`.
 void pssBeginIteration(inout Sampler s, float largeStepProbability) {
@@ -76,9 +96,14 @@ void pssAccept(inout Sampler s) {
     if (s.largeStep) s.lastLargeStep = s.iteration;
 }
 
-// Restores the coordinates this iteration changed (those read, 0 .. dimension - 1).
+// Restores the coordinates this iteration changed (those read, 0 .. dimension - 1; with
+// PSS_SAMPLER_PAIRS, whose reads are spread over kernels, all of them).
 void pssReject(inout Sampler s) {
+#ifdef PSS_SAMPLER_PAIRS
+    uint n = s.dimensions;
+#else
     uint n = min(s.dimension, s.dimensions);
+#endif
     for (uint d = 0u; d < n; ++d) {
         uint index = d * s.stride + s.chain;
         if (primarySamples[index].lastModification == s.iteration) {

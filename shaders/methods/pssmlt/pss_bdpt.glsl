@@ -1,0 +1,42 @@
+// PSSMLT over bdpt (shared/pssmlt_types.h): the chain state and splat lists the three kernels of
+// a step share (pssmlt_bdpt_subpaths_kernel.glsl, pssmlt_bdpt_connect_kernel.glsl,
+// pssmlt_bdpt_step.comp), and the sampler over a chain's primary vector that the bdpt walks and
+// connections read (pss_sampler.glsl, a dimension to a pair of coordinates).
+#ifndef PMCR_PSS_BDPT_GLSL
+#define PMCR_PSS_BDPT_GLSL
+
+#define PSS_SAMPLER_PAIRS
+#include "methods/pssmlt/pss_sampler.glsl"
+
+layout(set = WORK_SET, binding = PSSMLT_BINDING_BDPT_CHAINS, scalar) buffer BdptChainBuffer {
+    PssmltBdptChain chains[];
+};
+layout(set = WORK_SET, binding = PSSMLT_BINDING_SPLATS, scalar) buffer SplatListBuffer {
+    PssmltSplat splatLists[];
+};
+
+// The chain of invocation i: slot i while bootstrapping, else chain push.first + i.
+uint pssBdptChain(uint i) { return (push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u ? i : push.first + i; }
+
+// Entry k of chain's list: 0 the current state x's, 1 the proposal y's.
+uint pssSplatIndex(uint chain, uint list, uint k) {
+    return (2u * chain + list) * PSSMLT_BDPT_SPLATS(push.maxDepth) + k;
+}
+
+// The sampler of chain `chain` in state st, at its proposal (st.iteration; at 0 the start, which
+// reads the coordinates as they are), at dimension 0.
+Sampler pssBdptSampler(uint chain, PssmltBdptChain st) {
+    Sampler s;
+    s.chain = chain;
+    s.stride = push.chainStride;
+    s.dimensions = push.dimensions;
+    s.dimension = 0u;
+    s.iteration = st.iteration;
+    s.lastLargeStep = st.lastLargeStep;
+    s.largeStep = st.largeStep != 0u;
+    s.sigma = push.sigma;
+    s.rng.state = st.rng;
+    return s;
+}
+
+#endif
