@@ -15,10 +15,17 @@
 # is: ctest starts the longest entries first when it has no timings of its own yet, so that no
 # long entry starts last and runs alone on one of the two cores.
 #
-#   pmcr_add_gtest_suites(EXE exe LABEL label TIMEOUT s PROCESSORS n
-#                         ENVIRONMENT env... FULL_TESTS patterns... COSTS costs...)
+# COMPILE_BOUND ("entry", exact names) lists the entries that spend most of their time having
+# lavapipe compile kernels and little running them: they run with GALLIVM_PERF=nopt, which
+# skips LLVM's optimization passes (their compilation about 40% shorter, their kernels about
+# 1.5x slower). Only llvmpipe and lavapipe read it; a GPU's driver ignores it. Mesa's shader
+# cache keys the two builds apart, so other entries never run unoptimized code.
+#
+#   pmcr_add_gtest_suites(EXE exe LABEL label TIMEOUT s PROCESSORS n ENVIRONMENT env...
+#                         FULL_TESTS patterns... COSTS costs... COMPILE_BOUND entries...)
 function(pmcr_add_gtest_suites)
-    cmake_parse_arguments(arg "" "EXE;LABEL;TIMEOUT;PROCESSORS" "FULL_TESTS;ENVIRONMENT;COSTS" ${ARGN})
+    cmake_parse_arguments(arg "" "EXE;LABEL;TIMEOUT;PROCESSORS" "FULL_TESTS;ENVIRONMENT;COSTS;COMPILE_BOUND"
+                          ${ARGN})
     # This binary's patterns, as regular expressions.
     set(patterns "")
     set(regexes "")
@@ -105,8 +112,13 @@ endmacro()
 
 macro(_pmcr_add_entry name filter labels)
     add_test("${arg_LABEL}.${name}" "${arg_EXE}" "--gtest_filter=${filter}")
+    set(_environment ${arg_ENVIRONMENT})
+    list(FIND arg_COMPILE_BOUND "${arg_LABEL}.${name}" _compile_bound)
+    if(NOT _compile_bound EQUAL -1)
+        list(APPEND _environment "GALLIVM_PERF=nopt")
+    endif()
     set_tests_properties("${arg_LABEL}.${name}" PROPERTIES LABELS "${labels}" TIMEOUT "${arg_TIMEOUT}"
-                         PROCESSORS "${arg_PROCESSORS}" ENVIRONMENT "${arg_ENVIRONMENT}")
+                         PROCESSORS "${arg_PROCESSORS}" ENVIRONMENT "${_environment}")
     # (No regular expression here: the caller's CMAKE_MATCH_1 must survive this macro.)
     foreach(_cost IN LISTS arg_COSTS)
         string(FIND "${_cost}" "=" _at REVERSE)
