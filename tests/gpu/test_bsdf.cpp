@@ -150,6 +150,9 @@ const std::vector<MaterialCase>& materials() {
         withSheen({"", kWhite, 0, 0, 1, 1.5f, false}, "sheen smooth glass back", kWhite, 0.6f),
         // A coat normal of its own, tilted 30 to 37 degrees: towards wo (whose mirror about it
         // then leaves below the surface at some angles), away from it and out of its plane.
+        // (Not by exactly 36.87 degrees away: at cos(theta_o) 0.6 wo would graze the coat, whose
+        // F = 1 there leaves nothing to the lobes below, so every sample fails on f = 0 where
+        // bsdfPdf is not 0, which (b) below does not allow for.)
         withCoatNormal({"", kColour, 0, 1, 0, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.0f},
                        "clearcoat tilted smooth diffuse", glm::vec3(-0.5f, 0.0f, 0.866f)),
         withCoatNormal({"", kColour, 0, 0.4f, 0, 1.5f, true, false, 1, -1, kWhite, 0.9f, 0.2f},
