@@ -799,7 +799,9 @@ gpu::Material GltfLoader::convertMaterial(int index) {
     }
     // KHR_materials_clearcoat: a GGX coat of ior 1.5 over the material (shaders/common/bsdf.glsl
     // LOBE_CLEARCOAT): its factor (times clearcoatTexture's red) and roughness (times
-    // clearcoatRoughnessTexture's green). The coat shares the material's shading normal.
+    // clearcoatRoughnessTexture's green), and its own normal: clearcoatNormalTexture (with its
+    // scale), else the interpolated vertex normal, not the normalTexture's (MaterialSample
+    // clearcoatNormal in shaders/common/scene.glsl).
     if (const tinygltf::Value* ext = extension("KHR_materials_clearcoat")) {
         m.clearcoat = float(number(member(*ext, "KHR_materials_clearcoat", "clearcoatFactor", 0.0),
                                    "clearcoatFactor", 0, 1));
@@ -809,12 +811,21 @@ gpu::Material GltfLoader::convertMaterial(int index) {
         m.clearcoatTexture = extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatTexture");
         m.clearcoatRoughnessTexture =
             extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatRoughnessTexture");
-        if (ext->Has("clearcoatNormalTexture")) {
-            ignoreFor("KHR_materials_clearcoat.clearcoatNormalTexture is ignored (the coat takes "
-                      "the material's shading normal)",
-                      name);
+        m.clearcoatNormalTexture =
+            extensionTexture(*ext, "KHR_materials_clearcoat", "clearcoatNormalTexture");
+        m.clearcoatNormalScale = 1.0f;
+        if (m.clearcoatNormalTexture != 0) {
+            // A normalTextureInfo: its scale multiplies the tangent-space normal's x and y.
+            const tinygltf::Value& info = ext->Get("clearcoatNormalTexture");
+            m.clearcoatNormalScale = float(number(
+                member(info, "clearcoatNormalTexture", "scale", 1.0), "clearcoatNormalTexture.scale",
+                -1e6, 1e6));
         }
-        if (m.clearcoat == 0.0f) m.clearcoatTexture = 0;  // no coat, whatever the texture
+        if (m.clearcoat == 0.0f) {
+            // No coat, whatever its textures.
+            m.clearcoatTexture = 0;
+            m.clearcoatNormalTexture = 0;
+        }
     }
     // KHR_materials_sheen: the Charlie sheen lobe over the material (shaders/common/bsdf.glsl
     // LOBE_SHEEN): sheenColorFactor (times sheenColorTexture, sRGB) and sheenRoughnessFactor
@@ -1379,7 +1390,9 @@ void GltfLoader::addPrimitive(int meshIndex, int primitiveIndex, const glm::dmat
         uvTransform = m_uvTransform[size_t(primitive.material)];
         if (m_invisible[size_t(primitive.material)]) return;  // cut away by its alpha everywhere
     }
-    const bool normalMapped = m_scene.materials[material].normalTexture != 0;
+    // A normal map of the material's or of its clear coat's needs the tangents.
+    const bool normalMapped = m_scene.materials[material].normalTexture != 0 ||
+                              m_scene.materials[material].clearcoatNormalTexture != 0;
 
     auto attribute = [&](const std::string& name) -> const int* {
         auto it = primitive.attributes.find(name);

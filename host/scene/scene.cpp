@@ -69,7 +69,7 @@ float emitterPower(const Scene& scene, uint32_t triangle) {
 uint32_t sceneFeatures(const Scene& scene) {
     uint32_t features = 0;
     bool glossy = false, transmission = false, blend = false, thin = false, specular = false,
-         clearcoat = false, sheen = false;
+         clearcoat = false, sheen = false, clearcoatNormals = false;
     for (const gpu::Material& m : scene.materials) {
         blend = blend || (m.flags & gpu::MATERIAL_BLEND) != 0;
         thin = thin || ((m.flags & gpu::MATERIAL_THIN_WALLED) != 0 && m.transmission > 0.0f);
@@ -77,6 +77,10 @@ uint32_t sceneFeatures(const Scene& scene) {
         clearcoat = clearcoat || m.clearcoat > 0.0f;
         sheen = sheen || m.sheenColor != glm::vec3(0.0f);
         if (m.normalTexture != 0) features |= gpu::SCENE_FEATURE_NORMAL_MAPS;
+        // A coat whose normal may not be the shading normal (shaders/common/bsdf.glsl
+        // clearcoatNormal): its own normal map, or the material's that the coat does not take.
+        clearcoatNormals = clearcoatNormals || (m.clearcoat > 0.0f && (m.clearcoatNormalTexture != 0 ||
+                                                                       m.normalTexture != 0));
         if (m.alphaCutoff > 0.0f) features |= gpu::SCENE_FEATURE_ALPHA_MASKS;
         if (m.absorption != glm::vec3(0.0f)) features |= gpu::SCENE_FEATURE_ABSORPTION;
         if (hasGlossyLobe(m)) glossy = true;
@@ -89,8 +93,13 @@ uint32_t sceneFeatures(const Scene& scene) {
     if (!specular) features |= gpu::SCENE_FEATURE_NO_SPECULAR;
     if (!clearcoat) features |= gpu::SCENE_FEATURE_NO_CLEARCOAT;
     if (!sheen) features |= gpu::SCENE_FEATURE_NO_SHEEN;
+    if (!clearcoatNormals) features |= gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS;
     if (!scene.triangleEmission.empty()) features |= gpu::SCENE_FEATURE_EMISSIVE_TEXTURES;
-    if (scene.tangents.size() != scene.vertices.size()) features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
+    if (scene.tangents.size() != scene.vertices.size()) {
+        // No normal map is read: every coat normal is the interpolated one, the shading normal.
+        features &= ~gpu::SCENE_FEATURE_NORMAL_MAPS;
+        features |= gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS;
+    }
     return features;
 }
 

@@ -15,7 +15,8 @@
 // front face only): the coat reflects c F_c(wo.m) D G / (4 cos cos) (LOBE_CLEARCOAT) and every
 // lobe below is attenuated by (1 - c F_c(cos)) for each of wo and wi that lies on the front
 // (the extension's fresnel_coat, taken at both ends as the dielectric coat above does, so
-// that it stays reciprocal; a transmission crosses the coat once),
+// that it stays reciprocal; a transmission crosses the coat once); the coat has a normal of its
+// own (clearcoatNormal, below: its cosines and its F_c are taken about it),
 // and between the two, a sheen (KHR_materials_sheen, colour C, roughness r): the Charlie lobe
 // C D(h) V / max(1, E(cos_o), E(cos_i)) (LOBE_SHEEN, sampled cosine-weighted) over the lobes
 // below, which keep
@@ -80,6 +81,11 @@ struct Bsdf {
     float clearcoat;     // KHR_materials_clearcoat factor (0: none; bsdfSetClearcoat)
     float clearcoatAlpha;  // its GGX alpha = clearcoatRoughness^2
     bool clearcoatFront;   // wo is on the coated (front) side
+    // The coat's normal in this local frame, when clearcoatTilted (bsdfSetClearcoatNormal);
+    // else the coat's normal is +z, the shading normal's, and the code takes w.z.
+    vec3 clearcoatNormal;
+    bool clearcoatTilted;
+    bool adjoint;          // light-side walks: the coat's term is the adjoint (clearcoatNormal)
     vec3 sheenColor;       // KHR_materials_sheen colour (black: none; bsdfSetSheen)
     float sheenAlpha;      // its Charlie alpha = sheenRoughness^2, at least SHEEN_MIN_ALPHA
     float sheenAlbedoO;    // E(|wo.z|), the sheen lobe's directional albedo at wo (sheenAlbedo)
@@ -117,6 +123,9 @@ Bsdf makeBsdf(vec3 baseColor, float metallic, float roughness, float transmissio
     b.clearcoat = 0.0;
     b.clearcoatAlpha = 0.0;
     b.clearcoatFront = frontSide;
+    b.clearcoatNormal = vec3(0.0, 0.0, 1.0);
+    b.clearcoatTilted = false;
+    b.adjoint = false;
     b.sheenColor = vec3(0.0);
     b.sheenAlpha = 1.0;
     b.sheenAlbedoO = 0.0;
@@ -174,6 +183,30 @@ void bsdfSetClearcoat(inout Bsdf b, float factor, float roughness) {
 }
 
 bool clearcoatSmooth(Bsdf b) { return b.clearcoatAlpha < SMOOTH_ALPHA; }
+
+// ---- The clear coat's own normal n_c (KHR_materials_clearcoat's clearcoatNormal) ----------------
+// The coat reflects about n_c (its clearcoatNormalTexture, else the interpolated normal) while
+// the lobes below take the shading normal n_s (+z here, the normalTexture's) and every
+// integrator weights a BSDF by |cos_i| about n_s. Its lobe, f_c = c F D G / (4 cos'_o cos'_i)
+// (primes: cosines about n_c), scatters f_c cos'_i dw_i, so in pmcr's terms it is
+//   f(wo, wi) = f_c cos'_i / |cos_i| = c F D G / (4 cos'_o |cos_i|),
+// the same step as Veach's shading normal (1997 sec. 5.3, eq. 5.17: a BSDF about n_s written
+// for cosines about n_g) taken one layer further, from n_c to n_s. It is not symmetric: walks
+// that carry importance from the lights (bdpt's light subpaths and their t = 1 connections,
+// photons) need the adjoint f*(wo, wi) = f(wi, wo) = c F D G / (4 cos'_i |cos_o|) (Veach 1997
+// sec. 5.3.2; wo is then the light's side), and they apply eq. 5.19's correction from n_s to
+// n_g on top as for any BSDF (bdpt_vertex.glsl shadingEvalImportance). A smooth coat mirrors
+// about n_c with f |cos_i| = c F(cos'_o) for radiance and, since the mirror maps solid angle to
+// itself, f* |cos_i| = c F |cos_i| / |cos_o| for importance. The attenuation of the lobes below,
+// (1 - c F(|cos'_o|)) (1 - c F(|cos'_i|)), is symmetric and the same both ways. Sampling draws
+// visible normals about n_c; every density is the sampler's whatever the adjoint.
+void bsdfSetClearcoatNormal(inout Bsdf b, vec3 n) {
+    b.clearcoatNormal = normalize(n);
+    b.clearcoatTilted = true;
+}
+
+// cos of w about the coat's normal.
+float clearcoatCos(Bsdf b, vec3 w) { return b.clearcoatTilted ? dot(w, b.clearcoatNormal) : w.z; }
 
 // ---- The sheen (KHR_materials_sheen) ----------------------------------------------------------
 // Charlie distribution D(h) = (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi) (Estevez and Kulla
@@ -263,14 +296,20 @@ float sheenSelect(Bsdf b) {
 float clearcoatAttenuation(Bsdf b, vec3 w) {
     if (b.clearcoat <= 0.0) return 1.0;
     bool coatedSide = b.clearcoatFront ? w.z > 0.0 : w.z < 0.0;
-    return coatedSide ? 1.0 - b.clearcoat * fresnelDielectric(abs(w.z), CLEARCOAT_IOR) : 1.0;
+    return coatedSide ? 1.0 - b.clearcoat * fresnelDielectric(abs(clearcoatCos(b, w)), CLEARCOAT_IOR)
+                      : 1.0;
 }
 
 // Probability of sampling the clear coat (rather than the lobes below; within the coverage),
 // from its reflectance q = c F_c(wo.z) and an even guess for what lies below: q / (q + (1 - q) / 2).
 float clearcoatSelect(Bsdf b, vec3 wo) {
     if (b.clearcoat <= 0.0 || !b.clearcoatFront) return 0.0;
-    float q = b.clearcoat * fresnelDielectric(wo.z, CLEARCOAT_IOR);
+    float cosC = clearcoatCos(b, wo);
+    if (cosC <= 0.0) return 0.0;  // below the coat's horizon: it reflects nothing
+    // A smooth coat whose mirror about n_c leaves below the shading normal's horizon: neither.
+    if (b.clearcoatTilted && clearcoatSmooth(b) && 2.0 * cosC * b.clearcoatNormal.z <= wo.z)
+        return 0.0;
+    float q = b.clearcoat * fresnelDielectric(cosC, CLEARCOAT_IOR);
     return q / (q + 0.5 * (1.0 - q));
 }
 
@@ -326,18 +365,31 @@ vec4 lobeSelectProbabilities(Bsdf b, vec3 wo) {
            ((1.0 - clearcoatSelect(b, wo)) * (1.0 - sheenSelect(b)));
 }
 
-// The clear coat's rough reflection, without its weight (1 - wPass) c: D G F_c / (4 cos cos).
-float evalClearcoat(Bsdf b, vec3 wo, vec3 wi) {
-    if (wi.z <= 0.0 || wo.z <= 0.0 || clearcoatSmooth(b)) return 0.0;
-    vec3 m = normalize(wo + wi);
-    return ggxD(m, b.clearcoatAlpha) * ggxG2(wo, wi, b.clearcoatAlpha) *
-           fresnelDielectric(dot(wo, m), CLEARCOAT_IOR) / (4.0 * wo.z * wi.z);
+// w in the coat's frame (n_c = +z); w itself when the coat takes the shading normal.
+vec3 clearcoatLocal(Bsdf b, vec3 w) {
+    return b.clearcoatTilted ? toLocal(frameFromNormal(b.clearcoatNormal), w) : w;
 }
 
+// The clear coat's rough reflection, without its weight (1 - wPass) c: D G F_c / (4 cos'_o |cos_i|),
+// or its adjoint D G F_c / (4 cos'_i |cos_o|) (primes about n_c; equal without a tilt).
+float evalClearcoat(Bsdf b, vec3 wo, vec3 wi) {
+    if (wi.z <= 0.0 || wo.z <= 0.0 || clearcoatSmooth(b)) return 0.0;
+    vec3 o = clearcoatLocal(b, wo), i = clearcoatLocal(b, wi);
+    if (b.clearcoatTilted && (o.z <= 0.0 || i.z <= 0.0)) return 0.0;
+    vec3 m = normalize(o + i);
+    float cosines = b.clearcoatTilted && b.adjoint ? i.z * wo.z : o.z * wi.z;
+    return ggxD(m, b.clearcoatAlpha) * ggxG2(o, i, b.clearcoatAlpha) *
+           fresnelDielectric(dot(o, m), CLEARCOAT_IOR) / (4.0 * cosines);
+}
+
+// The density of the coat's visible-normal sampling about n_c (bsdfSampleDirection), which
+// fails below either horizon.
 float pdfClearcoat(Bsdf b, vec3 wo, vec3 wi) {
     if (wi.z <= 0.0 || clearcoatSmooth(b)) return 0.0;
-    vec3 m = normalize(wo + wi);
-    return ggxVisibleNormalPdf(wo, m, b.clearcoatAlpha) / (4.0 * abs(dot(wo, m)));
+    vec3 o = clearcoatLocal(b, wo), i = clearcoatLocal(b, wi);
+    if (b.clearcoatTilted && (o.z <= 0.0 || i.z <= 0.0)) return 0.0;
+    vec3 m = normalize(o + i);
+    return ggxVisibleNormalPdf(o, m, b.clearcoatAlpha) / (4.0 * abs(dot(o, m)));
 }
 
 // ---- Individual non-delta lobes ------------------------------------------------------------
@@ -580,7 +632,15 @@ bool bsdfSpecular(Bsdf b, vec3 wo, uint lobe, bool transmit, out vec3 wi, out ve
     }
     if (lobe == LOBE_CLEARCOAT) {
         if (transmit || !clearcoatSmooth(b) || !b.clearcoatFront) return false;
-        weight = vec3((1.0 - b.wPass) * b.clearcoat * fresnelDielectric(wo.z, CLEARCOAT_IOR));
+        float cosC = clearcoatCos(b, wo);
+        if (b.clearcoatTilted) {
+            // The mirror about n_c, which must leave on the front (clearcoatNormal).
+            if (cosC <= 0.0) return false;
+            wi = 2.0 * cosC * b.clearcoatNormal - wo;
+            if (wi.z <= 0.0) return false;
+        }
+        weight = vec3((1.0 - b.wPass) * b.clearcoat * fresnelDielectric(cosC, CLEARCOAT_IOR));
+        if (b.clearcoatTilted && b.adjoint) weight *= wi.z / wo.z;
         return maxComponent(weight) > 0.0;
     }
     if (!bsdfSmooth(b)) return false;
@@ -696,13 +756,17 @@ bool bsdfSampleDirection(Bsdf b, vec3 wo, float uLobe, vec2 u, out BsdfSample s)
         if (clearcoatSmooth(b)) {
             vec3 weight;
             if (!bsdfSpecular(b, wo, LOBE_CLEARCOAT, false, s.wi, weight)) return false;
-            s.f = weight / wo.z;
+            s.f = weight / s.wi.z;
             s.pdf = clearcoatLobeProbability(b, wo);
             s.delta = true;
             return s.pdf > 0.0;
         }
-        vec3 m = ggxSampleVisibleNormal(wo, b.clearcoatAlpha, u);
-        s.wi = reflect(-wo, m);
+        // Visible normals about n_c: a reflection below either horizon fails (pdfClearcoat).
+        vec3 o = clearcoatLocal(b, wo);
+        if (o.z <= 0.0) return false;
+        vec3 i = reflect(-o, ggxSampleVisibleNormal(o, b.clearcoatAlpha, u));
+        if (b.clearcoatTilted && i.z <= 0.0) return false;
+        s.wi = b.clearcoatTilted ? toWorld(frameFromNormal(b.clearcoatNormal), i) : i;
         if (s.wi.z <= 0.0) return false;
     } else if (b.wPass > 0.0) {
         // BLEND: the ray passes on with probability 1 - coverage, weight 1.

@@ -24,6 +24,9 @@ bool sceneHasThin() { return (kSceneFeatures & SCENE_FEATURE_NO_THIN) == 0u; }
 bool sceneHasSpecular() { return (kSceneFeatures & SCENE_FEATURE_NO_SPECULAR) == 0u; }
 bool sceneHasClearcoat() { return (kSceneFeatures & SCENE_FEATURE_NO_CLEARCOAT) == 0u; }
 bool sceneHasSheen() { return (kSceneFeatures & SCENE_FEATURE_NO_SHEEN) == 0u; }
+bool sceneHasClearcoatNormals() {
+    return sceneHasClearcoat() && (kSceneFeatures & SCENE_FEATURE_NO_CLEARCOAT_NORMALS) == 0u;
+}
 // Vertices, triangles, materials and emitters are texel buffers, as the BVH is (bvh.glsl): on lavapipe a
 // texel fetch is one gather of four words for all lanes, where a storage-buffer load with
 // per-lane addresses is a loop over the lanes for every word. A Vertex is VERTEX_TEXELS float
@@ -60,7 +63,7 @@ Material materialAt(uint i) {
     return Material(uintBitsToFloat(a.xyz), int(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z,
                     c.w, d.xyz, d.w, e.x, e.y, e.z, e.w, uintBitsToFloat(f.x),
                     uintBitsToFloat(f.y), f.z, f.w, g.xyz, g.w, uintBitsToFloat(h.x),
-                    uintBitsToFloat(h.y), h.z, h.w, k.xyz, k.w, l.x, l.y, l.z, l.w);
+                    uintBitsToFloat(h.y), h.z, h.w, k.xyz, k.w, l.x, l.y, l.z, uintBitsToFloat(l.w));
 }
 Emitter emitterFrom(uvec4 t) { return Emitter(t.x, uintBitsToFloat(t.y), uintBitsToFloat(t.z), t.w); }
 
@@ -247,6 +250,9 @@ struct MaterialSample {
     vec3 specularColor;    // times their textures
     float clearcoat;       // KHR_materials_clearcoat, times their textures
     float clearcoatRoughness;
+    // The coat's normal (sceneHasClearcoatNormals): its clearcoatNormalTexture's, else the
+    // interpolated vertex normal, not the normalTexture's (the extension's clearcoatNormal).
+    vec3 clearcoatNormal;
     vec3 sheenColor;       // KHR_materials_sheen, times their textures
     float sheenRoughness;
 };
@@ -262,6 +268,7 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     r.specularColor = m.specularColor;
     r.clearcoat = m.clearcoat;
     r.clearcoatRoughness = m.clearcoatRoughness;
+    r.clearcoatNormal = s.shadingNormal;
     r.sheenColor = m.sheenColor;
     r.sheenRoughness = m.sheenRoughness;
     float alpha = 1.0;
@@ -275,16 +282,20 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
     int clearcoatRoughnessTexture = sceneHasClearcoat() ? int(m.clearcoatRoughnessTexture) - 1 : -1;
     int sheenColorTexture = sceneHasSheen() ? int(m.sheenColorTexture) - 1 : -1;
     int sheenRoughnessTexture = sceneHasSheen() ? int(m.sheenRoughnessTexture) - 1 : -1;
+    int clearcoatNormalTexture =
+        sceneHasClearcoatNormals() ? int(m.clearcoatNormalTexture) - 1 : -1;
     // Bit w set: the material has texture kind w (0 base colour, 1 metallicRoughness, 2 normal,
     // 3 transmission, 4 specular, 5 specular colour, 6 clearcoat, 7 clearcoat roughness, 8 sheen
-    // colour, 9 sheen roughness); each pass takes the lowest kind left.
+    // colour, 9 sheen roughness, 10 clearcoat normal); each pass takes the lowest kind left.
     uint left = (m.baseColorTexture >= 0 ? 1u : 0u) | (mrTexture >= 0 ? 2u : 0u) |
                 (normalTexture >= 0 ? 4u : 0u) | (transmissionTexture >= 0 ? 8u : 0u) |
                 (specularTexture >= 0 ? 16u : 0u) | (specularColorTexture >= 0 ? 32u : 0u) |
                 (clearcoatTexture >= 0 ? 64u : 0u) | (clearcoatRoughnessTexture >= 0 ? 128u : 0u) |
-                (sheenColorTexture >= 0 ? 256u : 0u) | (sheenRoughnessTexture >= 0 ? 512u : 0u);
+                (sheenColorTexture >= 0 ? 256u : 0u) | (sheenRoughnessTexture >= 0 ? 512u : 0u) |
+                (clearcoatNormalTexture >= 0 ? 1024u : 0u);
     int count = bitCount(left);
     vec3 normalTexel = vec3(0.5, 0.5, 1.0);
+    vec3 clearcoatNormalTexel = vec3(0.5, 0.5, 1.0);
     for (int k = 0; k < count; ++k) {
         int which = findLSB(left);
         left &= left - 1u;
@@ -297,7 +308,8 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
                     : which == 6 ? clearcoatTexture
                     : which == 7 ? clearcoatRoughnessTexture
                     : which == 8 ? sheenColorTexture
-                                 : sheenRoughnessTexture;
+                    : which == 9 ? sheenRoughnessTexture
+                                 : clearcoatNormalTexture;
         vec4 t = sampleTextureRgba(index, s.uv, which == 0 || which == 5 || which == 8);
         if (which == 0) {
             r.baseColor *= t.rgb;
@@ -319,13 +331,17 @@ MaterialSample materialTextures(Material m, SurfacePoint s) {
             r.clearcoatRoughness *= t.g;
         } else if (which == 8) {
             r.sheenColor *= t.rgb;
-        } else {
+        } else if (which == 9) {
             r.sheenRoughness *= t.a;
+        } else {
+            clearcoatNormalTexel = t.rgb;
         }
     }
     if (sceneHasNormalMaps() && normalTexture >= 0) {
         r.shadingNormal = normalMapped(s, normalTexel, m.normalScale);
     }
+    if (clearcoatNormalTexture >= 0)
+        r.clearcoatNormal = normalMapped(s, clearcoatNormalTexel, m.clearcoatNormalScale);
     r.coverage = sceneHasBlend() && (m.flags & MATERIAL_BLEND) != 0u ? m.coverage * alpha : 1.0;
     return r;
 }

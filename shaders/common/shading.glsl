@@ -31,8 +31,12 @@ ShadingPoint makeShadingPoint(SurfacePoint s, vec3 wo) {
                        sceneHasThin() && (m.flags & MATERIAL_THIN_WALLED) != 0u, ms.coverage);
     if (sceneHasSpecular() && (m.flags & MATERIAL_SPECULAR) != 0u)
         bsdfSetSpecular(sh.bsdf, ms.specular, ms.specularColor);
-    if (sceneHasClearcoat() && m.clearcoat > 0.0)
+    if (sceneHasClearcoat() && m.clearcoat > 0.0) {
         bsdfSetClearcoat(sh.bsdf, ms.clearcoat, ms.clearcoatRoughness);
+        // The coat's own normal (bsdf.glsl clearcoatNormal), the front's, in the local frame.
+        if (sceneHasClearcoatNormals())
+            bsdfSetClearcoatNormal(sh.bsdf, toLocal(sh.frame, ms.clearcoatNormal));
+    }
     if (sceneHasSheen() && maxComponent(m.sheenColor) > 0.0)
         bsdfSetSheen(sh.bsdf, ms.sheenColor, ms.sheenRoughness, sh.woLocal);
     // In a scene without GGX lobes (SCENE_FEATURE_NO_GLOSSY) every alpha that matters is below

@@ -164,8 +164,10 @@ struct Material {
     float sheenRoughness;  // sheenRoughnessFactor (times its texture's alpha)
     uint sheenColorTexture;      // index + 1, 0 for none
     uint sheenRoughnessTexture;  // index + 1, 0 for none (linear; alpha)
-    uint pad0;
-    uint pad1;
+    // KHR_materials_clearcoat's clearcoatNormalTexture: the coat's own normal map (index + 1,
+    // 0 for none: the coat then takes the interpolated vertex normal), and its scale.
+    uint clearcoatNormalTexture;
+    float clearcoatNormalScale;
 };
 PMCR_CHECK_SIZE(Material, 160);
 PMCR_CONST uint MATERIAL_TEXELS = 10;
@@ -193,10 +195,14 @@ PMCR_CONST uint SCENE_FEATURE_NO_THIN = 128u;
 PMCR_CONST uint SCENE_FEATURE_NO_SPECULAR = 256u;
 PMCR_CONST uint SCENE_FEATURE_NO_CLEARCOAT = 512u;
 PMCR_CONST uint SCENE_FEATURE_NO_SHEEN = 1024u;
+// Set when no clear-coated material's coat normal can differ from its shading normal: none has
+// a clearcoatNormalTexture, or a normalTexture (which the coat does not take). The coat's own
+// normal and the adjoint of its lobe (bsdf.glsl clearcoatTilted) are then compiled out.
+PMCR_CONST uint SCENE_FEATURE_NO_CLEARCOAT_NORMALS = 2048u;
 PMCR_CONST uint SCENE_FEATURES_LACKS = SCENE_FEATURE_NO_GLOSSY | SCENE_FEATURE_NO_TRANSMISSION |
                                        SCENE_FEATURE_NO_BLEND | SCENE_FEATURE_NO_THIN |
                                        SCENE_FEATURE_NO_SPECULAR | SCENE_FEATURE_NO_CLEARCOAT |
-                                       SCENE_FEATURE_NO_SHEEN;
+                                       SCENE_FEATURE_NO_SHEEN | SCENE_FEATURE_NO_CLEARCOAT_NORMALS;
 
 // One emissive triangle, in an alias table (Walker 1977) over emitted power:
 // pick slot i uniformly, keep it when u < aliasThreshold, else take emitter `alias`.

@@ -37,6 +37,8 @@ layout(push_constant, scalar) uniform Push {
     float clearcoatRoughness;
     vec3 sheenColor;       // KHR_materials_sheen; black: none
     float sheenRoughness;
+    vec3 clearcoatNormal;  // the coat's own normal in the local frame; zero: the shading normal's
+    uint adjoint;          // the coat's adjoint term (light-side walks)
 } push;
 
 // The material for outgoing direction wo (the sheen's albedo at wo is part of it).
@@ -45,6 +47,9 @@ Bsdf material(vec3 wo) {
                       push.frontSide != 0u, push.thin != 0u, push.coverage);
     if (push.specularWeight >= 0.0) bsdfSetSpecular(b, push.specularWeight, push.specularColor);
     if (push.clearcoat > 0.0) bsdfSetClearcoat(b, push.clearcoat, push.clearcoatRoughness);
+    if (push.clearcoat > 0.0 && dot(push.clearcoatNormal, push.clearcoatNormal) > 0.0)
+        bsdfSetClearcoatNormal(b, push.clearcoatNormal);
+    b.adjoint = push.adjoint != 0u;
     if (maxComponent(push.sheenColor) > 0.0) bsdfSetSheen(b, push.sheenColor, push.sheenRoughness, wo);
     return b;
 }

@@ -50,6 +50,8 @@ struct BsdfPush {
     float clearcoatRoughness;
     glm::vec3 sheenColor;
     float sheenRoughness;
+    glm::vec3 clearcoatNormal;
+    uint32_t adjoint;
 };
 
 enum BsdfMode : uint32_t { Sample = 0, Eval, Info };
@@ -73,7 +75,19 @@ struct MaterialCase {
     float clearcoatRoughness = 0.0f;
     glm::vec3 sheenColor = glm::vec3(0.0f);  // KHR_materials_sheen
     float sheenRoughness = 0.0f;
+    // The clear coat's own normal in the local frame (bsdf.glsl clearcoatNormal); zero: the
+    // shading normal's.
+    glm::vec3 clearcoatNormal = glm::vec3(0.0f);
+    bool adjoint = false;  // the coat's adjoint term, as light-side walks evaluate it
+    bool tilted() const { return clearcoat > 0.0f && clearcoatNormal != glm::vec3(0.0f); }
 };
+
+// The material `m` under a clear coat whose normal is `n` (normalized here).
+MaterialCase withCoatNormal(MaterialCase m, const char* name, glm::vec3 n) {
+    m.name = name;
+    m.clearcoatNormal = glm::normalize(n);
+    return m;
+}
 
 // A material with a sheen of `colour` and `roughness` over the given one.
 MaterialCase withSheen(MaterialCase m, const char* name, glm::vec3 colour, float roughness) {
@@ -134,6 +148,17 @@ const std::vector<MaterialCase>& materials() {
         withSheen({"", kWhite, 0, 0.2f, 1, 1.5f, true, false, 0.7f, -1, kWhite, 1.0f, 0.1f},
                   "sheen glass clearcoat blend", glm::vec3(0.5f), 0.4f),
         withSheen({"", kWhite, 0, 0, 1, 1.5f, false}, "sheen smooth glass back", kWhite, 0.6f),
+        // A coat normal of its own, tilted 30 to 37 degrees: towards wo (whose mirror about it
+        // then leaves below the surface at some angles), away from it and out of its plane.
+        // (Not by exactly 36.87 degrees away: at cos(theta_o) 0.6 wo would graze the coat, whose
+        // F = 1 there leaves nothing to the lobes below, so every sample fails on f = 0 where
+        // bsdfPdf is not 0, which (b) below does not allow for.)
+        withCoatNormal({"", kColour, 0, 1, 0, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.0f},
+                       "clearcoat tilted smooth diffuse", glm::vec3(-0.5f, 0.0f, 0.866f)),
+        withCoatNormal({"", kColour, 0, 0.4f, 0, 1.5f, true, false, 1, -1, kWhite, 0.9f, 0.2f},
+                       "clearcoat tilted 0.2 coat 0.4", glm::vec3(0.3f, 0.4f, 0.866f)),
+        withCoatNormal({"", kColour, 0, 1, 0, 1.5f, true, false, 1, -1, kWhite, 1.0f, 0.05f},
+                       "clearcoat tilted 0.05 diffuse", glm::vec3(-0.55f, 0.0f, 0.835f)),
     };
     return cases;
 }
@@ -179,6 +204,8 @@ protected:
         p.clearcoatRoughness = m.clearcoatRoughness;
         p.sheenColor = m.sheenColor;
         p.sheenRoughness = m.sheenRoughness;
+        p.clearcoatNormal = m.clearcoatNormal;
+        p.adjoint = m.adjoint ? 1u : 0u;
         return p;
     }
     std::vector<BsdfSampleResult> sample(const MaterialCase& m, glm::vec3 wo, uint32_t n,
@@ -261,7 +288,9 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
     const bool clearcoatSmooth = m.clearcoatRoughness * m.clearcoatRoughness < 1e-3f;
     EXPECT_NEAR(extra.w, 1.0 - m.coverage, 1e-6) << "wPass";
     EXPECT_NEAR(p.x + p.y + p.z + p.w + extra.w + pClearcoat + pSheen, 1.0, 1e-5) << "lobe probabilities";
-    EXPECT_EQ(pClearcoat > 0.0f, m.clearcoat > 0.0f && m.frontSide) << "clear coat on the front only";
+    // (A tilted coat reflects nothing where wo, or its smooth mirror, is below a horizon.)
+    if (!m.tilted())
+        EXPECT_EQ(pClearcoat > 0.0f, m.clearcoat > 0.0f && m.frontSide) << "clear coat on the front only";
 
     // Discrete probabilities of the delta outcomes, from the lobe selection probabilities.
     // Categories: coat mirror, conductor mirror, glass reflection, glass transmission, pass,
@@ -322,6 +351,12 @@ void BsdfTest::checkSampling(const MaterialCase& m, double cosO, uint32_t seed) 
             if (category == 4 || (category == 3 && m.thin)) {
                 // Straight on: a pass, or through a thin sheet.
                 ASSERT_EQ(s.wi, -wo) << "straight through";
+            } else if (category == 5 && m.tilted()) {
+                // The mirror about the coat's normal.
+                const glm::vec3 n = m.clearcoatNormal;
+                const glm::vec3 mirror = 2.0f * glm::dot(wo, n) * n - wo;
+                ASSERT_LT(glm::length(s.wi - mirror), 1e-5f) << "mirror about the coat normal";
+                ASSERT_GT(s.wi.z, 0.0f);
             } else if (s.wi.z > 0.0f) {
                 ASSERT_EQ(s.wi, glm::vec3(-wo.x, -wo.y, wo.z)) << "mirror direction";
             } else {
@@ -447,7 +482,8 @@ TEST_F(BsdfTest, Reciprocity) {
         bFlipped[i] = b[i];
     }
     for (const MaterialCase& m : materials()) {
-        if (!m.frontSide)
+        // (A tilted coat's term is not symmetric: ClearcoatNormalAdjoint checks its adjoint.)
+        if (!m.frontSide || m.tilted())
             continue;
         SCOPED_TRACE(m.name);
         // Reflection: f(a, b) = f(b, a).
@@ -554,6 +590,71 @@ TEST_F(BsdfTest, ClearcoatReflectsAndAttenuatesAsLayered) {
         EXPECT_NEAR(coated[0][k], bare[0][k] * (1 - Fa), 1e-5 * bare[0][k]);
         EXPECT_NEAR(coated[0][k], back[0][k] / (1.5f * 1.5f), 1e-4 * coated[0][k]);
     }
+}
+
+// A clear coat with a normal n_c of its own (bsdf.glsl clearcoatNormal): its term
+// D G F / (4 cos'_o |cos_i|) is not symmetric, so light-side walks evaluate the adjoint, and
+// f_adjoint(wo, wi) must equal f(wi, wo) for every pair (the lobes below the coat are symmetric
+// and enter both alike); a rough coat's plain f must not be symmetric (else the test checks
+// nothing). A
+// smooth coat's mirror about n_c carries c F |cos_i| / |cos_o| as the adjoint instead of c F.
+TEST_F(BsdfTest, ClearcoatNormalAdjoint) {
+    std::mt19937 gen(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    auto upper = [&] { return glm::vec3(directionFromZPhi(u(gen), 2 * kPi * u(gen))); };
+    const size_t n = 4096;
+    std::vector<glm::vec3> a(n), b(n);
+    for (size_t i = 0; i < n; ++i) {
+        a[i] = upper();
+        b[i] = upper();
+    }
+    int tilted = 0;
+    for (const MaterialCase& m : materials()) {
+        if (!m.tilted())
+            continue;
+        ++tilted;
+        SCOPED_TRACE(m.name);
+        MaterialCase adjoint = m;
+        adjoint.adjoint = true;
+        const auto fAdjoint = eval(adjoint, a, b, true), fSwapped = eval(m, b, a, true);
+        const auto f = eval(m, a, b, true);
+        size_t asymmetric = 0, nonZero = 0;
+        for (size_t i = 0; i < n; ++i) {
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(fAdjoint[i][c], fSwapped[i][c], 2e-4f * std::max(fSwapped[i][c], 1.0f))
+                    << "pair " << i;
+            // The densities are the sampler's, the same either way.
+            ASSERT_EQ(fAdjoint[i].w, f[i].w) << "pair " << i;
+            nonZero += f[i].x > 0.0f ? 1 : 0;
+            asymmetric += std::abs(f[i].x - fSwapped[i].x) > 0.01f * std::max(f[i].x, fSwapped[i].x);
+        }
+        // (A smooth coat's f has only the symmetric lobes below it; a sharp lobe few pairs.)
+        if (m.clearcoatRoughness != 0.0f)
+            EXPECT_GT(asymmetric, std::min<size_t>(nonZero / 10, 40)) << "the tilted coat's f should not be symmetric";
+
+        if (m.clearcoatRoughness != 0.0f)
+            continue;
+        // The smooth coat's mirror: the same directions either way, weights in ratio
+        // |cos_i| / |cos_o|.
+        for (double cosO : {0.95, 0.25}) {
+            const glm::vec3 wo = woAt(cosO);
+            const auto radiance = sample(m, wo, 4096, 11), importance = sample(adjoint, wo, 4096, 11);
+            int mirrors = 0;
+            for (size_t i = 0; i < radiance.size(); ++i) {
+                const BsdfSampleResult &r = radiance[i], &q = importance[i];
+                ASSERT_EQ(r.ok(), q.ok());
+                if (!r.ok() || !r.delta() || r.lobe() != LobeClearcoat)
+                    continue;
+                ++mirrors;
+                ASSERT_EQ(r.wi, q.wi);
+                ASSERT_EQ(r.pdf, q.pdf);
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(q.f[c], r.f[c] * r.wi.z / wo.z, 1e-5f * r.f[c] * r.wi.z / wo.z);
+            }
+            EXPECT_GT(mirrors, cosO > 0.5 ? 10 : -1) << "cos(theta_o) " << cosO;
+        }
+    }
+    EXPECT_GE(tilted, 3);
 }
 
 // KHR_materials_sheen: the directional albedo E(cos) = integral of D V cos_i (Charlie D,

@@ -27,6 +27,7 @@
 #include "methods/energy_redistribution/path_records.h"
 #include "render/session.h"
 #include "render_test.h"
+#include "scene_builder.h"
 #include "statistics.h"
 #include "vk/command_batch.h"
 
@@ -37,6 +38,7 @@ constexpr uint32_t kMaxVertices = gpu::CHAIN_MAX_VERTICES;
 constexpr int kSize = 32;  // image side of the recorded paths
 constexpr uint32_t kLobeDielectric = 4;  // bsdf.glsl LOBE_DIELECTRIC
 constexpr uint32_t kLobePass = 5;        // bsdf.glsl LOBE_PASS
+constexpr uint32_t kLobeClearcoat = 6;   // bsdf.glsl LOBE_CLEARCOAT
 
 struct DensityPush {
     uint32_t mode;
@@ -100,6 +102,29 @@ Scene cornellGlassAs(uint32_t flags, float coverage, const char* name) {
     EXPECT_GE(changed, 1) << "cornell-glass has a glass material";
     s.path = name;
     finalizeScene(s);
+    return s;
+}
+
+// cornell-glass with every opaque surface under a smooth clear coat (KHR_materials_clearcoat)
+// whose clearcoatNormalTexture tilts the coat's normal by 30 degrees along the tangent: caustic
+// chains reflect off the coat about that normal, not the shading normal.
+Scene cornellGlassTiltedCoat() {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    s.textures.push_back(normalTexel("coat-normal", glm::vec3(0.5f, 0.0f, 0.866f)));
+    int coated = 0;
+    for (gpu::Material& m : s.materials) {
+        if (m.transmission > 0.0f || m.emission != glm::vec3(0.0f)) continue;
+        m.clearcoat = 1.0f;
+        m.clearcoatRoughness = 0.0f;
+        m.clearcoatNormalTexture = uint32_t(s.textures.size());
+        m.clearcoatNormalScale = 1.0f;
+        ++coated;
+    }
+    EXPECT_GE(coated, 4) << "cornell-glass has walls";
+    setPlanarTangents(s);  // the walls are flat; the sphere is glass, uncoated
+    s.path = "cornell-tilted-coat.glb";
+    finalizeScene(s);
+    EXPECT_EQ(sceneFeatures(s) & gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS, 0u);
     return s;
 }
 
@@ -260,7 +285,7 @@ protected:
     // Detailed balance of the caustic perturbation on a recorded path (defined below).
     void expectCausticDetailedBalance(bool uniformLaw);
     // The Jacobians against finite differences on the current scene's paths (defined below).
-    void expectJacobiansMatchFiniteDifferences(uint32_t transmitLobe);
+    void expectJacobiansMatchFiniteDifferences(uint32_t lobe, bool transmits = true);
 
     std::unique_ptr<Scene> m_scene;  // useScene's
     std::unique_ptr<RenderSession> m_session;
@@ -377,17 +402,36 @@ TEST_F(ErptDensities, JacobiansThroughBlendCoverageMatchFiniteDifferences) {
     expectJacobiansMatchFiniteDifferences(kLobePass);
 }
 
-// `transmitLobe` (bsdf.glsl LOBE_*; 0: any): the checked chains must cross that lobe's
-// specular transmission.
-void ErptDensities::expectJacobiansMatchFiniteDifferences(uint32_t transmitLobe) {
+// And off a smooth clear coat whose normal is not the shading normal (a normal texture of its
+// own): the caustic Gamma takes the coat's normal at its mirror vertices.
+TEST_F(ErptDensities, JacobiansOffATiltedClearcoatMatchFiniteDifferences) {
+    useScene(cornellGlassTiltedCoat());
+    expectJacobiansMatchFiniteDifferences(kLobeClearcoat, false);
+}
+
+// `lobe` (bsdf.glsl LOBE_*; 0: any): the checked chains must cross that lobe's specular
+// transmission (`transmits`) or reflection.
+void ErptDensities::expectJacobiansMatchFiniteDifferences(uint32_t lobe, bool transmits) {
+    // Whether the path scatters by `lobe` (transmitting or reflecting) at a specular vertex.
+    auto crosses = [&](const ChainPath& p) {
+        if (lobe == 0) return true;
+        for (const gpu::ChainVertex& v : p.vertices) {
+            const uint32_t want = gpu::VERTEX_SPECULAR | (transmits ? gpu::VERTEX_TRANSMISSION : 0u);
+            if ((v.flags & (gpu::VERTEX_SPECULAR | gpu::VERTEX_TRANSMISSION)) == want &&
+                ((v.flags >> gpu::CHAIN_LOBE_SHIFT) & 15u) == lobe)
+                return true;
+        }
+        return false;
+    };
     std::vector<ChainPath> all = recordPaths(4);
     std::vector<ChainPath> paths;
     int withChain = 0;
     for (const ChainPath& p : all) {
         if (p.vertices[0].flags & gpu::VERTEX_SPECULAR)
             continue;
-        // Half of them through a specular chain (h > 1) where the scene has them.
-        if (p.head > 1 && withChain < 128) {
+        // Half of them through a specular chain (h > 1) where the scene has them; reflections
+        // off `lobe` are rarer than the glass's chains and are picked out.
+        if (p.head > 1 && (transmits || crosses(p)) && withChain < 128) {
             paths.push_back(p);
             ++withChain;
         } else if (paths.size() < size_t(128 + withChain)) {
@@ -424,16 +468,6 @@ void ErptDensities::expectJacobiansMatchFiniteDifferences(uint32_t transmitLobe)
     }
     auto agree = [](double a, double b, double tol) {
         return std::abs(a - b) <= tol * std::max(std::abs(a), std::abs(b));
-    };
-    // Whether the path transmits through `transmitLobe` at a specular vertex.
-    auto crosses = [&](const ChainPath& p) {
-        if (transmitLobe == 0) return true;
-        for (const gpu::ChainVertex& v : p.vertices) {
-            const uint32_t want = gpu::VERTEX_SPECULAR | gpu::VERTEX_TRANSMISSION;
-            if ((v.flags & want) == want && ((v.flags >> gpu::CHAIN_LOBE_SHIFT) & 15u) == transmitLobe)
-                return true;
-        }
-        return false;
     };
     int rasterChecked = 0, solidChecked = 0, causticChecked = 0, causticChainChecked = 0;
     double worstRaster = 0.0, worstSolid = 0.0, worstCaustic = 0.0;

@@ -171,7 +171,8 @@ INSTANTIATE_TEST_SUITE_P(Scenes, PtLacks,
                                                      gpu::SCENE_FEATURE_NO_BLEND | gpu::SCENE_FEATURE_NO_THIN |
                                                          gpu::SCENE_FEATURE_NO_SPECULAR |
                                                          gpu::SCENE_FEATURE_NO_CLEARCOAT |
-                                                         gpu::SCENE_FEATURE_NO_SHEEN}));
+                                                         gpu::SCENE_FEATURE_NO_SHEEN |
+                                                         gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS}));
 
 // The same for request lists (PMC-IP and PMC-PT): every request writes its own result, the same
 // bit for bit whatever the number of requests per invocation, for pixel-sequence requests and

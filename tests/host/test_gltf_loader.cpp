@@ -911,6 +911,57 @@ TEST(GltfLoader, SpecularExtensionAndTexturedBlend) {
         expectLoadError(c.writeGltf(dir, "clearcoat-bad"), "clearcoatFactor");
     }
     {
+        // clearcoatNormalTexture and its scale are read, without a warning; the mesh gets tangents
+        // for it, and the kernels the coat's normal (no SCENE_FEATURE_NO_CLEARCOAT_NORMALS).
+        GltfBuilder c;
+        c.addLight();
+        c.useExtension("KHR_materials_clearcoat");
+        c.push("images", {{"uri", "data:image/bmp;base64," + base64(tinyBmp())}});
+        c.push("textures", {{"source", 0}});
+        const int coated = c.material(
+            {{"name", "Coated"},
+             {"extensions",
+              {{"KHR_materials_clearcoat",
+                {{"clearcoatFactor", 1.0},
+                 {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.7}}}}}}}});
+        const int uncoated = c.material(
+            {{"name", "Uncoated"},
+             {"extensions",
+              {{"KHR_materials_clearcoat",
+                {{"clearcoatFactor", 0.0}, {"clearcoatNormalTexture", {{"index", 0}}}}}}}});
+        for (int m : {coated, uncoated}) {
+            const json primitive = {{"attributes",
+                                     {{"POSITION", c.vec3s({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})},
+                                      {"TEXCOORD_0", c.vec2s({{0, 1}, {1, 1}, {0, 0}})}}},
+                                    {"material", m}};
+            c.node({{"mesh", c.mesh(primitive)}});
+        }
+        std::string warnings;
+        const Scene cs = loadQuietly(c.writeGltf(dir, "clearcoat-normal"), &warnings);
+        EXPECT_EQ(countOf(warnings, "clearcoatNormalTexture"), 0u) << warnings;
+        EXPECT_EQ(countOf(warnings, "ignored"), 0u) << warnings;
+        EXPECT_EQ(cs.materials[size_t(coated)].clearcoatNormalTexture, 1u);
+        EXPECT_FLOAT_EQ(cs.materials[size_t(coated)].clearcoatNormalScale, 0.7f);
+        EXPECT_EQ(cs.materials[size_t(uncoated)].clearcoatNormalTexture, 0u);  // no coat
+        EXPECT_EQ(cs.tangents.size(), cs.vertices.size());
+        EXPECT_EQ(sceneFeatures(cs) & gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS, 0u);
+        EXPECT_EQ(sceneFeatures(cs) & gpu::SCENE_FEATURE_NORMAL_MAPS, 0u);
+        // The scale defaults to 1.
+        c.doc["materials"][size_t(coated)]["extensions"]["KHR_materials_clearcoat"]
+             ["clearcoatNormalTexture"]
+                 .erase("scale");
+        const Scene unscaled = loadQuietly(c.writeGltf(dir, "clearcoat-normal-unscaled"));
+        EXPECT_FLOAT_EQ(unscaled.materials[size_t(coated)].clearcoatNormalScale, 1.0f);
+        // A coat without a texture of its own over a normal-mapped material: the coat's normal
+        // (the interpolated one) is not the shading normal either.
+        Scene mapped = cs;
+        mapped.materials[size_t(coated)].clearcoatNormalTexture = 0;
+        mapped.materials[size_t(coated)].normalTexture = 1;
+        EXPECT_EQ(sceneFeatures(mapped) & gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS, 0u);
+        mapped.materials[size_t(coated)].normalTexture = 0;
+        EXPECT_NE(sceneFeatures(mapped) & gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS, 0u);
+    }
+    {
         // KHR_materials_sheen: colour and roughness; a colour out of [0, 1] fails.
         GltfBuilder c = basicScene();
         c.useExtension("KHR_materials_sheen");

@@ -167,6 +167,50 @@ TEST_F(MaterialTextures, NormalMapTiltsTheShadingNormal) {
     }
 }
 
+// KHR_materials_clearcoat's clearcoatNormalTexture (read with its scale): a rough coat whose
+// texture is the base's normalTexture renders as that coat over vertex normals tilted alike (the
+// coat's own normal, shaders/common/bsdf.glsl clearcoatNormal, then is the shading normal); over
+// a normal map without a texture of its own the coat keeps the interpolated normal (the
+// extension's fallback) and renders otherwise; a coat texture alone tilts the coat alone.
+TEST_F(MaterialTextures, ClearcoatNormalTextureTiltsTheCoat) {
+    const uint32_t r = 200, g = 90, b = 220;
+    const uint32_t texel = 0xFF000000u | (b << 16) | (g << 8) | r;
+    const float scale = 0.5f;
+    gpu::Material coated = testMaterial(glm::vec3(0.0f));
+    coated.clearcoat = 1.0f;
+    coated.clearcoatRoughness = 0.3f;
+    gpu::Material both = coated;
+    both.normalTexture = 1;  // texture 0
+    both.normalScale = scale;
+    both.clearcoatNormalTexture = 1;
+    both.clearcoatNormalScale = scale;
+    auto mapped = [&](const gpu::Material& m) {
+        Scene s = texturedFloor(m, texel);
+        s.tangents.assign(s.vertices.size(), glm::vec4(1, 0, 0, 1));
+        return s;
+    };
+    const Scene withMaps = mapped(both);
+    ASSERT_EQ(sceneFeatures(withMaps) & gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS, 0u);
+    // The floor's world normal for the texel (NormalMapTiltsTheShadingNormal).
+    const glm::vec3 t = glm::vec3(r, g, b) / 255.0f * 2.0f - 1.0f;
+    const glm::vec3 n = glm::normalize(glm::vec3(t.x * scale, t.z, -t.y * scale));
+    Scene tilted = texturedFloor(coated, texel);
+    for (size_t i = 0; i < 6; ++i) tilted.vertices[i].normal = n;  // the floor's vertices
+    ASSERT_NE(sceneFeatures(tilted) & gpu::SCENE_FEATURE_NO_CLEARCOAT_NORMALS, 0u);
+    const Image e = render(tilted);
+    EXPECT_LT(relativeError(render(withMaps), e), 1e-4);
+
+    gpu::Material baseOnly = both;
+    baseOnly.clearcoatNormalTexture = 0;
+    EXPECT_GT(relativeError(render(mapped(baseOnly)), e), 0.01)
+        << "the coat should keep the interpolated normal under a normal map";
+    gpu::Material coatOnly = both;
+    coatOnly.normalTexture = 0;
+    const Image c = render(mapped(coatOnly));
+    EXPECT_GT(relativeError(c, render(texturedFloor(coated, texel))), 0.01) << "the coat's tilt should show";
+    EXPECT_GT(relativeError(c, e), 0.01) << "the base should keep its normal";
+}
+
 // A unit card at height 0.5 between the floor and the light, textured by a two-texel row
 // (alpha 0, alpha 255) read at u (CLAMP_TO_EDGE: u 0 is the first texel, 1 the second).
 Scene cardOverFloor(bool masked, float u, bool withCard = true) {

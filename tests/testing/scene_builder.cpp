@@ -1,5 +1,6 @@
 #include "scene_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -27,6 +28,29 @@ void addTriangle(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const g
         scene.vertices.push_back(v);
     }
     scene.triangles.push_back({base, base + 1, base + 2, material});
+}
+
+Texture normalTexel(const std::string& name, const glm::vec3& n) {
+    const glm::vec3 stored = (glm::normalize(n) + 1.0f) * 0.5f;
+    auto byte = [](float v) { return uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    Texture t;
+    t.name = name;
+    t.rgba8 = {0xFF000000u | (byte(stored.z) << 16) | (byte(stored.y) << 8) | byte(stored.x)};
+    t.width = 1;
+    t.height = 1;
+    return t;
+}
+
+void setPlanarTangents(Scene& scene) {
+    scene.tangents.assign(scene.vertices.size(), glm::vec4(1, 0, 0, 1));
+    for (const gpu::Triangle& t : scene.triangles) {
+        const glm::vec3 p0 = scene.vertices[t.i0].position, p1 = scene.vertices[t.i1].position,
+                        p2 = scene.vertices[t.i2].position;
+        const glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        const glm::vec3 helper = std::abs(n.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+        const glm::vec4 tangent(glm::normalize(glm::cross(n, helper)), 1.0f);
+        for (uint32_t i : {t.i0, t.i1, t.i2}) scene.tangents[i] = tangent;
+    }
 }
 
 void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings, int segments,

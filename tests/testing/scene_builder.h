@@ -18,6 +18,14 @@ void addTriangle(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const g
 void addSphere(Scene& scene, const glm::vec3& center, float radius, int rings, int segments,
                uint32_t material);
 
+// A one-texel normal texture holding the tangent-space normal n (normalized, stored as
+// (n + 1) / 2 in 8 bits, as glTF's normalTexture and clearcoatNormalTexture are).
+Texture normalTexel(const std::string& name, const glm::vec3& n);
+
+// Tangents for normal maps (Scene::tangents, sign +1): at each triangle's vertices a unit vector
+// in its plane (the last triangle's where vertices are shared), for flat-faced scenes.
+void setPlanarTangents(Scene& scene);
+
 // A random width x height equirectangular image sky for environment-light tests: each pixel black
 // with probability `blackFraction` (0: none drawn), else uniform in [0, 1) per channel times
 // `scale`, drawn b, g, r in that order (the order in which the tests' skies were first drawn and

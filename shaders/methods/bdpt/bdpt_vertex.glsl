@@ -97,7 +97,9 @@ ShadingPoint shadingFrom(ShadingPoint sh, vec3 wo) {
     if (front != sh.front) {
         sh.front = front;
         sh.ng = -sh.ng;
+        vec3 coatNormal = toWorld(sh.frame, sh.bsdf.clearcoatNormal);
         sh.frame = frameFromNormal(-sh.frame.n);
+        if (sh.bsdf.clearcoatTilted) sh.bsdf.clearcoatNormal = toLocal(sh.frame, coatNormal);
     }
     sh.woLocal = toLocal(sh.frame, wo);
     // What the BSDF derived from wo's side and direction (eta, the clear coat's side, the
@@ -117,8 +119,11 @@ float shadingPdf(ShadingPoint sh, vec3 wo, vec3 wi) {
 // The adjoint BSDF at sh (light subpaths, pbrt-v4 TransportMode::Importance) towards wi, times
 // the shading normal's correction |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997 eq. 5.19): no
 // 1 / eta^2 on transmission (bsdf.glsl divides by it for radiance; the non-delta transmission
-// is the rough dielectric's, whose eta is the material's, 1 for a thin sheet). absCos = |wi.ns|.
+// is the rough dielectric's, whose eta is the material's, 1 for a thin sheet), and the clear
+// coat's adjoint term about its own normal (bsdf.glsl clearcoatNormal; every other lobe is
+// symmetric). absCos = |wi.ns|.
 vec3 shadingEvalImportance(ShadingPoint sh, vec3 wi, out float absCos) {
+    sh.bsdf.adjoint = true;
     float pdf;
     vec3 f = shadingEval(sh, wi, pdf, absCos);
     if (dot(wi, sh.ng) < 0.0) f *= sqr(sh.bsdf.eta);

@@ -77,6 +77,8 @@ bool walkStep(inout Walk w, inout Sampler smp, inout uint rays) {
     v.beta = w.beta;
     v.pdfFwd = convertDensity(w.prev, w.pdfFwd, v);
     ShadingPoint sh = makeShadingPoint(s, wo);
+    // Light subpaths carry importance: the clear coat's adjoint term (bsdf.glsl clearcoatNormal).
+    sh.bsdf.adjoint = w.light;
     float uLobe = samplerGet1D(smp);
     vec2 uDir = samplerGet2D(smp);
     float uRoulette = samplerGet1D(smp);
@@ -90,7 +92,8 @@ bool walkStep(inout Walk w, inout Sampler smp, inout uint rays) {
     }
     vec3 factor = bs.f * abs(bs.wi.z) / bs.pdf;
     if (w.light) {
-        // The adjoint BSDF (bdpt_vertex.glsl shadingEvalImportance, photon_shoot_kernel.glsl).
+        // The adjoint BSDF (bdpt_vertex.glsl shadingEvalImportance, photon_shoot_kernel.glsl;
+        // the clear coat's adjoint term is in bs.f).
         factor *= sqr(bs.eta);  // a refraction's eta; 1 for a thin sheet or a BLEND pass
         float denom = abs(dot(wo, sh.ng)) * abs(bs.wi.z);
         factor *= denom > 0.0 ? abs(sh.woLocal.z) * abs(dot(wi, sh.ng)) / denom : 0.0;

@@ -71,7 +71,9 @@ float causticGamma(uint base, uint h) {
     // eta_in^2 |cos_s(in)| dw_in = eta_out^2 |cos_s(out)| dw_out at a fixed point (its dependence
     // on the position drops out of the determinant), so each S vertex contributes eta^2 (on a
     // refraction; 1 through a thin sheet or a BLEND pass, bsdfLobeEta) and, where n_s is not the geometric normal (interpolated normals), the
-    // factor |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|), in = the light's side.
+    // factor |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|), in = the light's side. A
+    // smooth clear coat mirrors about its own normal n_c (bsdf.glsl clearcoatNormal), which then
+    // takes n_s's place: the factor is |cos_g(out)| / |cos_g(in)| (a mirror keeps |cos_c|).
     vec3 previous = x1.position;
     for (uint i = 1u; i < h; ++i) {
         ChainVertex v = chainVertices[base + i];
@@ -80,9 +82,12 @@ float causticGamma(uint base, uint h) {
         vec3 wLight = normalize(pathPoint(base, i + 1u).position - s.position);
         ShadingPoint sh = makeShadingPoint(s, wEye);
         gamma *= sqr(bsdfLobeEta(sh.bsdf, vertexLobe(v), vertexTransmits(v)));
-        float denominator = abs(dot(s.normal, wLight)) * abs(dot(sh.frame.n, wEye));
+        vec3 n = sh.frame.n;
+        if (sh.bsdf.clearcoatTilted && vertexLobe(v) == LOBE_CLEARCOAT)
+            n = toWorld(sh.frame, sh.bsdf.clearcoatNormal);
+        float denominator = abs(dot(s.normal, wLight)) * abs(dot(n, wEye));
         if (!(denominator > 0.0)) return 0.0;
-        gamma *= abs(dot(sh.frame.n, wLight)) * abs(dot(s.normal, wEye)) / denominator;
+        gamma *= abs(dot(n, wLight)) * abs(dot(s.normal, wEye)) / denominator;
         previous = s.position;
     }
     return gamma;

@@ -24,7 +24,8 @@
 //              (n_h / n_1)^2 / |cos_g(x1)|, whose (n_h / n_1)^2 is the product of the chain's eta^2.
 //              A delta lobe about an interpolated shading normal conserves n^2 |cos_s| dw, not
 //              n^2 |cos_g| dw, so each S vertex also contributes
-//              |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|) (mutate_caustic.glsl).
+//              |cos_s(in)| |cos_g(out)| / (|cos_g(in)| |cos_s(out)|) (mutate_caustic.glsl; a
+//              smooth clear coat's mirror takes its own normal n_c for n_s).
 // When x_k is a punctual light or the environment (light_vertex.glsl has their measures):
 //   lens      the reconnection x_c -> x_k is |cos_s(x_c -> p)| / |x_c - p|^2 to a point or spot
 //             light at p (no area at the light, so no |cos_g| there), and |cos_s(x_c, w)| to a

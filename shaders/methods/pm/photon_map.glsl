@@ -71,7 +71,9 @@ vec3 photonRadiance(ShadingPoint sh, bool caustic, uint exclude, uint maxHit, fl
     vec3 x = sh.surface.position;
     ivec3 lo = ivec3(floor((x - r) / photonMap.cellSize));
     ivec3 hi = ivec3(floor((x + r) / photonMap.cellSize));
-    bool lambertian = sh.bsdf.wBase >= 1.0 && !sh.bsdf.coated;
+    // (A clear coat or a sheen over the Lambertian makes it another BSDF.)
+    bool lambertian = sh.bsdf.wBase >= 1.0 && !sh.bsdf.coated && sh.bsdf.clearcoat <= 0.0 &&
+                      !bsdfHasSheen(sh.bsdf);
     vec3 sum = vec3(0.0);
     uint perBucket = max(photonMap.maxLookup / 8u, 1u);
     stats.lookups += 1u;

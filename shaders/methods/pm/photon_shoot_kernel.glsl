@@ -45,6 +45,7 @@ void main() {
             beta *= segmentTransmittance(s, ray.dir, hit.t);
             vec3 wo = -ray.dir;
             ShadingPoint sh = makeShadingPoint(s, wo);
+            sh.bsdf.adjoint = true;  // the clear coat's adjoint term (bsdf.glsl clearcoatNormal)
             if (bsdfHasNonDelta(sh.bsdf)) {
                 if (stored == push.slotsPerPath) {
                     full = 1u;
@@ -65,7 +66,8 @@ void main() {
             if (!shadingSample(sh, uLobe, uDir, bs, wi)) break;
             // The adjoint BSDF (Veach 1997 sec. 5.3.2, pbrt-v4 TransportMode::Importance): no
             // 1 / eta^2 on transmission (bsdf.glsl divides by it for radiance), and the shading
-            // normal's correction |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997 eq. 5.19).
+            // normal's correction |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997 eq. 5.19); the
+            // clear coat's adjoint term is in bs.f.
             vec3 factor = bs.f * abs(bs.wi.z) / bs.pdf;
             factor *= sqr(bs.eta);
             float denom = abs(dot(wo, sh.ng)) * abs(bs.wi.z);
