@@ -98,6 +98,8 @@ expect_error "pssmlt bootstrap" "--bootstrap" -- render "$src/scenes/furnace.glb
 expect_error "pssmlt chains" "--chains" -- render "$src/scenes/furnace.glb" --method pssmlt --chains -3 -o "$tmp/out/x.exr"
 expect_error "pssmlt depth beyond its storage" "--max-depth.*pssmlt" -- render "$src/scenes/furnace.glb" --method pssmlt --max-depth 101 -o "$tmp/out/x.exr"
 expect_error "pssmlt over an unknown estimator" "--over" -- render "$src/scenes/furnace.glb" --method pssmlt --over mlt -o "$tmp/out/x.exr"
+expect_error "mmlt takes no --over" "--over.*mmlt" -- render "$src/scenes/furnace.glb" --method mmlt --over pt -o "$tmp/out/x.exr"
+expect_error "mmlt bootstrap" "--bootstrap" -- render "$src/scenes/furnace.glb" --method mmlt --bootstrap 0 -o "$tmp/out/x.exr"
 expect_error "bad output extension" "x\.jpg" -- render "$src/scenes/furnace.glb" -o "$tmp/out/x.jpg"
 expect_error "missing output directory" "nodir" -- render "$src/scenes/furnace.glb" -o "$tmp/out/nodir/x.exr"
 expect_error "unknown device" "no-such-gpu" -- render "$src/scenes/furnace.glb" --device no-such-gpu -o "$tmp/out/x.exr"

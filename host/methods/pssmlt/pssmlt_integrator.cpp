@@ -47,7 +47,6 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
     const uint64_t accepted = c.values[gpu::COUNTER_LARGE_ACCEPTED] + c.values[gpu::COUNTER_SMALL_ACCEPTED];
     const double deposited = batches.depositedEnergy();
     out.methodStats = {
-        {"over", run.over},
         {"passes", passes},
         {"bootstrap_samples", run.bootstrapSamples},
         {"normalization", run.normalization},  // b_hat: the image's total luminance
@@ -63,6 +62,7 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
         // of the sums, unless deposits were dropped.
         {"energy_not_deposited", run.mutations > 0 ? 1.0 - deposited / double(run.mutations) : 0.0},
     };
+    if (run.over) out.methodStats["over"] = run.over;
     out.methodStats.update(mutationStatistics(c));
     // ERPT's perturbations do not run here.
     for (const char* key : {"lens_proposed", "lens_acceptance", "caustic_proposed", "caustic_acceptance",
@@ -73,8 +73,9 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
 
 }  // namespace
 
-PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
+PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s, uint32_t defaultBootstrap) {
     PssmltOptions o;
+    o.bootstrapSpp = defaultBootstrap;
     const std::string over = s.optionString("over", "bdpt");
     if (over != "bdpt" && over != "pt") throw Error("--over: expected bdpt or pt, got '" + over + "'");
     o.overBdpt = over == "bdpt";
@@ -111,7 +112,7 @@ uint32_t PssmltOptions::defaultPassesPerBatch(bool cpuDevice, uint64_t mutations
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
 
 RenderOutput Pssmlt::render(RenderSession& session) {
-    return m_options.overBdpt ? renderOverBdpt(session) : renderOverPt(session);
+    return m_options.overBdpt ? renderChainsOverBdpt(session, m_options, false) : renderOverPt(session);
 }
 
 RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
@@ -272,39 +273,44 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
 
 // Over bdpt: the same bootstrap, chains, passes and deposits as over pt, a sample being one
 // bidirectional sample (shared/pssmlt_types.h) and a step three dispatches over the chains: the
-// proposal's subpaths, its connections into its splat list, the acceptance and deposits.
-RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
+// proposal's subpaths, its connections into its splat list, the acceptance and deposits. mmlt
+// (multiplexed) the same, a sample being one strategy of a chain's depth.
+RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o, bool multiplexed) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
-    const PssmltOptions& o = m_options;
+    const uint32_t kDefaultSpp = Pssmlt::kDefaultSpp;
     const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
     const uint32_t spp = settings.spp > 0 ? settings.spp
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
     const uint32_t chains =
         o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::defaultChains(context.isCpuDevice()));
-    const uint32_t dimensions = PSSMLT_BDPT_DIMENSIONS(settings.maxDepth);
+    const uint32_t dimensions =
+        multiplexed ? MMLT_DIMENSIONS(settings.maxDepth) : PSSMLT_BDPT_DIMENSIONS(settings.maxDepth);
+    // mmlt: --bootstrap samples per pixel of each depth 0 .. maxDepth (pbrt-v4 MLTIntegrator).
+    const uint32_t depths = multiplexed ? settings.maxDepth + 1 : 1;
     const uint32_t cameraStride = settings.maxDepth + 2;
     const uint32_t lightStride = settings.maxDepth + 1;
     const uint32_t splatsPerList = PSSMLT_BDPT_SPLATS(settings.maxDepth);
     const VkDeviceSize primaryBytes = VkDeviceSize(chains) * dimensions * sizeof(gpu::PrimarySample);
     const VkDeviceSize vertexBytes = VkDeviceSize(chains) * (cameraStride + lightStride) * sizeof(gpu::BdptVertex);
     if (primaryBytes + vertexBytes > kMaxPrimaryBytes)
-        throw Error("pssmlt: " + std::to_string(chains) + " chains of " + std::to_string(dimensions) +
+        throw Error(std::string(multiplexed ? "mmlt: " : "pssmlt: ") + std::to_string(chains) + " chains of " +
+                    std::to_string(dimensions) +
                     " random numbers and their subpaths need " +
                     std::to_string((primaryBytes + vertexBytes) >> 20) +
                     " MiB (at most 1024); lower --chains or --max-depth");
     // One pass: about one mutation per pixel.
     const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
-    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
+    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels * depths;
     if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
         throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
 
     // Build the pipelines before the clock starts (compilation is not rendering).
-    const vk::Kernel& subpathsKernel =
-        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bdpt_subpaths"));
-    const vk::Kernel& connectKernel =
-        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bdpt_connect"));
+    const vk::Kernel& subpathsKernel = session.kernel(lightsKernelVariant(
+        session.scene(), multiplexed ? "methods/mmlt/mmlt_subpaths" : "methods/pssmlt/pssmlt_bdpt_subpaths"));
+    const vk::Kernel& connectKernel = session.kernel(lightsKernelVariant(
+        session.scene(), multiplexed ? "methods/mmlt/mmlt_connect" : "methods/pssmlt/pssmlt_bdpt_connect"));
     const vk::Kernel& stepKernel = session.kernel("methods/pssmlt/pssmlt_bdpt_step");
     session.startClock();
 
@@ -344,7 +350,9 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
     gpu::PssmltPush push{};
     push.seed = settings.seed;
     push.maxDepth = settings.maxDepth;
-    push.rrDepth = settings.rrDepth;
+    // mmlt's subpaths have the lengths of their strategy: no Russian roulette (pbrt-v4's
+    // MLTIntegrator has none), which would only end some of them short, F = 0.
+    push.rrDepth = multiplexed ? std::numeric_limits<uint32_t>::max() : settings.rrDepth;
     push.dimensions = dimensions;
     push.chainStride = chains;
     push.largeStepProbability = o.largeStepProbability;
@@ -379,7 +387,9 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
         start = chooseChainStarts(w, chains, settings.seed);
     }
     session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
-    const double normalization = start.normalization;
+    // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator; the
+    // bootstrap has as many samples of each depth).
+    const double normalization = start.normalization * depths;
     // e_d: each pass's chains * steps deposits share b (the image's total luminance).
     const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
 
@@ -443,8 +453,8 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
     }
     session.progress().finish();
     return pssmltOutput(session, splat, batches,
-                        {"bdpt", bootstrapSamples, normalization, chains, stepsPerPass, together, dimensions,
-                         depositEnergy, mutations});
+                        {multiplexed ? nullptr : "bdpt", bootstrapSamples, normalization, chains, stepsPerPass,
+                         together, dimensions, depositEnergy, mutations});
 }
 
 MethodInfo pssmltMethod() {

@@ -45,7 +45,8 @@ struct PssmltOptions {
     // for the host between passes), at most 64.
     static uint32_t defaultPassesPerBatch(bool cpuDevice, uint64_t mutationsPerPass);
 
-    static PssmltOptions fromSettings(const RenderSettings& settings);
+    // The options as pssmlt and mmlt take them; --bootstrap defaults to defaultBootstrap.
+    static PssmltOptions fromSettings(const RenderSettings& settings, uint32_t defaultBootstrap = 4);
 };
 
 class Pssmlt : public Integrator {
@@ -58,10 +59,14 @@ public:
 
 private:
     RenderOutput renderOverPt(RenderSession& session);
-    RenderOutput renderOverBdpt(RenderSession& session);
 
     PssmltOptions m_options;
 };
+
+// The chains over bdpt samples, of pssmlt --over bdpt or, `multiplexed`, of mmlt
+// (host/methods/mmlt): the bootstrap, the chains' starts, the passes of three dispatches a
+// step (shaders/methods/pssmlt/pssmlt_bdpt_*, shaders/methods/mmlt/), the image and the stats.
+RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& options, bool multiplexed);
 
 // The registry entry of `pssmlt` (render/methods.cpp).
 MethodInfo pssmltMethod();
