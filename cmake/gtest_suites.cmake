@@ -11,10 +11,14 @@
 # `LABEL.Prefix/Suite.full`, labelled `full`; the others run in `LABEL.Prefix/Suite`.
 # `cmake --build build --target check` runs every entry without the label, `check-full` all.
 #
+# COSTS ("entry=seconds", measured) orders the first run of a fresh build directory, as CI's
+# is: ctest starts the longest entries first when it has no timings of its own yet, so that no
+# long entry starts last and runs alone on one of the two cores.
+#
 #   pmcr_add_gtest_suites(EXE exe LABEL label TIMEOUT s PROCESSORS n
-#                         ENVIRONMENT env... FULL_TESTS patterns...)
+#                         ENVIRONMENT env... FULL_TESTS patterns... COSTS costs...)
 function(pmcr_add_gtest_suites)
-    cmake_parse_arguments(arg "" "EXE;LABEL;TIMEOUT;PROCESSORS" "FULL_TESTS;ENVIRONMENT" ${ARGN})
+    cmake_parse_arguments(arg "" "EXE;LABEL;TIMEOUT;PROCESSORS" "FULL_TESTS;ENVIRONMENT;COSTS" ${ARGN})
     # This binary's patterns, as regular expressions.
     set(patterns "")
     set(regexes "")
@@ -103,4 +107,14 @@ macro(_pmcr_add_entry name filter labels)
     add_test("${arg_LABEL}.${name}" "${arg_EXE}" "--gtest_filter=${filter}")
     set_tests_properties("${arg_LABEL}.${name}" PROPERTIES LABELS "${labels}" TIMEOUT "${arg_TIMEOUT}"
                          PROCESSORS "${arg_PROCESSORS}" ENVIRONMENT "${arg_ENVIRONMENT}")
+    # (No regular expression here: the caller's CMAKE_MATCH_1 must survive this macro.)
+    foreach(_cost IN LISTS arg_COSTS)
+        string(FIND "${_cost}" "=" _at REVERSE)
+        string(SUBSTRING "${_cost}" 0 ${_at} _entry)
+        if(_entry STREQUAL "${arg_LABEL}.${name}")
+            math(EXPR _at "${_at} + 1")
+            string(SUBSTRING "${_cost}" ${_at} -1 _seconds)
+            set_tests_properties("${arg_LABEL}.${name}" PROPERTIES COST "${_seconds}")
+        endif()
+    endforeach()
 endmacro()

@@ -9,6 +9,9 @@ pmcr="$1"
 src="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# Mesa's own shader cache stays where it was (it would follow XDG_CACHE_HOME and compile every
+# kernel cold, three times slower on lavapipe): this test is about pmcr's cache file only.
+export MESA_SHADER_CACHE_DIR="${MESA_SHADER_CACHE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}}"
 export XDG_CACHE_HOME="$tmp/cache"
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }

@@ -105,6 +105,18 @@ TEST_F(BdptMis, WeightsOfAPathSumToOneWithAnAreaLightAndGlass) {
     expectWeightsSumToOne(context(), testScene("scenes/cornell-glass.glb"), "cornell-glass");
 }
 
+TEST_F(BdptMis, WeightsOfAPathSumToOneThroughAThinSheet) {
+    Scene s = testScene("scenes/cornell-glass.glb");
+    for (size_t i = 0; i < s.materials.size(); ++i)
+        if (s.materialNames[i] == "GlassSphere") {
+            s.materials[i].flags |= gpu::MATERIAL_THIN_WALLED;
+            s.materials[i].absorption = glm::vec3(0.0f);
+        }
+    s.path = "cornell-thin.glb";
+    finalizeScene(s);
+    expectWeightsSumToOne(context(), s, "cornell-glass, thin-walled sphere");
+}
+
 TEST_F(BdptMis, WeightsOfAPathSumToOneUnderTheSky) {
     expectWeightsSumToOne(context(), cornellGlassUnderSkyAndSun(), "cornell-glass under a sky");
 }

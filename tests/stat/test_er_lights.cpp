@@ -25,16 +25,8 @@ class ErLightsPunctual : public GpuTest {};
 class ErLightsSky : public GpuTest {};
 
 RenderSettings settingsFor(const std::string& method, uint32_t spp) {
-    RenderSettings s;
-    s.method = method;
-    s.width = 20;
-    s.height = 20;
-    s.spp = spp;
-    s.maxDepth = 8;
+    RenderSettings s = chainZTestSettings(method, spp);
     if (method == "erpt") {
-        s.options["chain-length"] = "20";
-        s.options["mutations-per-pixel"] = "4";
-        s.options["mutation"] = "mix";  // the caustic perturbation on every path it applies to
         // Direct light redistributed too, and lens moves of 8 pixels: the paths E D L reconnect
         // to the light vertex, and far enough for its factor to matter. (Measured: dropping the
         // 1 / d^2 of the reconnection to a point light fails 18 of 400 pixels so, none with
@@ -42,10 +34,8 @@ RenderSettings settingsFor(const std::string& method, uint32_t spp) {
         s.options["redistribute"] = "all";
         s.options["lens-radius"] = "8";
     } else if (method == "mlt") {
-        // As erpt's, and a bootstrap as large as the reference's samples (test_mlt.cpp says why).
-        s.options["mutation"] = "mix";
+        // As erpt's.
         s.options["lens-radius"] = "8";
-        s.options["bootstrap"] = "64";
         s.options["direct"] = "chains";  // the sampler's density for direct paths to each light too
     } else if (method == "pmc-er") {
         s.options["population"] = "400";

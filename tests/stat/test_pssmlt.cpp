@@ -56,27 +56,7 @@ TEST_F(PssmltTest, PassesRunTogetherSameImage) {
 // Every mutation deposits e_d in all (a at the proposal, 1 - a at the current path), each pass
 // is about one mutation per pixel, and both kinds of step are proposed and accepted.
 TEST_F(PssmltTest, EveryMutationDepositsOneUnit) {
-    RenderSettings s = pssmltSettings(32, 3);
-    s.options["chains"] = "100";
-    auto r = renderForTest(testScene("scenes/cornell-glass.glb"), s);
-    const auto& m = r.stats["method_stats"];
-    EXPECT_EQ(m["passes"].get<int>(), 3);
-    EXPECT_EQ(m["steps_per_pass"].get<uint32_t>(), 10u);  // round(1024 / 100)
-    EXPECT_EQ(m["mutations"].get<uint64_t>(), 3000u);
-    EXPECT_EQ(m["bootstrap_samples"].get<uint64_t>(), 4u * 1024u);
-    EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
-    EXPECT_NEAR(m["energy_not_deposited"].get<double>(), 0.0, 1e-5);
-    const double large = m["large_step_proposed"].get<double>();
-    const double small = m["small_step_proposed"].get<double>();
-    EXPECT_EQ(large + small, 3000.0);
-    EXPECT_NEAR(large / 3000.0, 0.3, 0.05);
-    EXPECT_GT(m["large_step_acceptance"].get<double>(), 0.0);
-    EXPECT_GT(m["small_step_acceptance"].get<double>(), m["large_step_acceptance"].get<double>());
-    EXPECT_LT(m["small_step_acceptance"].get<double>(), 1.0);
-    // b_hat is the image's total luminance: close to the rendered image's.
-    const glm::dvec3 mean = imageMean(r.output.image);
-    const double total = (0.2126 * mean.x + 0.7152 * mean.y + 0.0722 * mean.z) * 1024.0;
-    EXPECT_NEAR(m["normalization"].get<double>() / total, 1.0, 0.5);
+    expectPssmltMutationsDepositOneUnit(pssmltSettings(32, 3), 1e-5);
 }
 
 TEST_F(PssmltTest, FurnaceGivesItsAnalyticValue) {

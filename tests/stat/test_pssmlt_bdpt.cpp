@@ -58,25 +58,7 @@ TEST_F(PssmltOverBdpt, SameSeedSameImageBitForBit) {
 // state's, each splat its share of F; both kinds of step are proposed and accepted; b_hat, from
 // a bootstrap of bdpt samples, is the image's total luminance.
 TEST_F(PssmltOverBdpt, EveryMutationDepositsOneUnit) {
-    RenderSettings s = overBdpt(32, 3);
-    s.options["chains"] = "100";
-    const auto r = renderForTest(testScene("scenes/cornell-glass.glb"), s);
-    const auto& m = r.stats["method_stats"];
-    EXPECT_EQ(m["passes"].get<int>(), 3);
-    EXPECT_EQ(m["steps_per_pass"].get<uint32_t>(), 10u);  // round(1024 / 100)
-    EXPECT_EQ(m["mutations"].get<uint64_t>(), 3000u);
-    EXPECT_EQ(m["bootstrap_samples"].get<uint64_t>(), 4u * 1024u);
-    EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
-    EXPECT_NEAR(m["energy_not_deposited"].get<double>(), 0.0, 1e-4);
-    const double large = m["large_step_proposed"].get<double>();
-    const double small = m["small_step_proposed"].get<double>();
-    EXPECT_EQ(large + small, 3000.0);
-    EXPECT_NEAR(large / 3000.0, 0.3, 0.05);
-    EXPECT_GT(m["large_step_acceptance"].get<double>(), 0.0);
-    EXPECT_GT(m["small_step_acceptance"].get<double>(), m["large_step_acceptance"].get<double>());
-    const glm::dvec3 mean = imageMean(r.output.image);
-    const double total = (0.2126 * mean.x + 0.7152 * mean.y + 0.0722 * mean.z) * 1024.0;
-    EXPECT_NEAR(m["normalization"].get<double>() / total, 1.0, 0.5);
+    expectPssmltMutationsDepositOneUnit(overBdpt(32, 3), 1e-4);
 }
 
 // Inside the furnace (a Lambertian sphere of albedo 0.5 emitting 0.5) every pixel is

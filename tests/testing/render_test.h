@@ -31,6 +31,20 @@ Scene cornellGlassUnderSkyAndSun();
 RenderSettings renderSettings(const std::string& method, int width, int height, uint32_t spp,
                               uint32_t maxDepth = RenderSettings{}.maxDepth);
 
+// The chain methods' z-test settings on a 20 x 20 image of at most 8 bounces: `method` with
+// `spp`, and for erpt and mlt the caustic perturbation on every path it applies to (mutation
+// mix; erpt's chains of 20 with 4 mutations a pixel, mlt's bootstrap as large as the
+// references' samples, tests/stat/test_mlt.cpp). Shared by the z-tests of the lights
+// (test_er_lights.cpp) and of the material extensions (test_material_extensions.cpp).
+RenderSettings chainZTestSettings(const std::string& method, uint32_t spp);
+
+// pssmlt's bookkeeping on cornell-glass at 32 x 32 with 100 chains and 3 passes of `settings`:
+// each pass about one mutation per pixel (10 steps of 100 chains), every mutation depositing
+// e_d in all (within `energyTolerance`, relative), none dropped, both kinds of step proposed
+// (30% large) and accepted, and b_hat close to the image's total luminance. Over pt and over
+// bdpt (test_pssmlt.cpp, test_pssmlt_bdpt.cpp).
+void expectPssmltMutationsDepositOneUnit(RenderSettings settings, double energyTolerance);
+
 // Renders `scene` with `settings` (size resolved from the scene when 0).
 RenderResult renderForTest(const Scene& scene, RenderSettings settings);
 

@@ -115,6 +115,51 @@ RenderOutput Pssmlt::render(RenderSession& session) {
     return m_options.overBdpt ? renderChainsOverBdpt(session, m_options, false) : renderOverPt(session);
 }
 
+// The passes of started chains, shared by both bases: `together` passes at a time, each about
+// one mutation per pixel, then the splat film completes them. With one pass at a time,
+// runSteps(n) makes n steps of every chain (in dispatches sized to the device) and a pass can be
+// abandoned between them; with several, recordSteps(n) records n steps of every chain into the
+// open submission. Passes run together give the same bits as one at a time: the chains and
+// their random numbers do not know where a submission ends, and the film sums integer quanta
+// (PssmltTest.PassesRunTogetherSameImage). Returns the mutations made; `interrupted` tells
+// whether the render was stopped.
+template <typename RunSteps, typename RecordSteps>
+uint64_t runPasses(RenderSession& session, SplatFilm& splat, RedistributionBatch& batches,
+                   const vk::DescriptorSet& work, float depositEnergy, uint32_t pixels, uint32_t spp,
+                   uint32_t chains, uint32_t stepsPerPass, uint32_t stepsPerDispatch, uint32_t together,
+                   bool& interrupted, RunSteps runSteps, RecordSteps recordSteps) {
+    uint64_t mutations = 0;
+    PassClock clock(session);
+    for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass();) {
+        const uint32_t count = std::min(together, spp - pass);
+        if (count == 1) {
+            for (uint32_t done = 0; done < stepsPerPass;) {
+                const uint32_t steps = std::min(stepsPerDispatch, stepsPerPass - done);
+                runSteps(steps);
+                mutations += uint64_t(chains) * steps;
+                done += steps;
+                if (clock.abandon()) {
+                    interrupted = true;
+                    break;
+                }
+            }
+        } else {
+            // All of `count` passes' steps in one submission, every chain in each dispatch.
+            batches.begin();
+            batches.batch().bind(work);
+            recordSteps(count * stepsPerPass);
+            batches.submit();
+            mutations += uint64_t(chains) * stepsPerPass * count;
+            interrupted = clock.abandon();
+        }
+        if (interrupted) break;
+        completeRedistributionPass(session, splat, depositEnergy, pixels, pass + count - 1, spp, count);
+        clock.passDone();
+        pass += count;
+    }
+    return mutations;
+}
+
 RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
@@ -217,10 +262,7 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
             c += push.count;
         }
     };
-    // Passes run together: their steps go into one submission and their deposits into the
-    // splat film together, which then completes them as that many passes. The chains and their
-    // random numbers do not know where a submission ends, and the film sums integer quanta, so
-    // the image is the same bits for any count (PssmltTest.PassesRunTogetherSameImage).
+    // Passes run together (runPasses): the same bits for any count.
     const uint32_t together = o.passesPerBatch > 0
                                   ? o.passesPerBatch
                                   : PssmltOptions::defaultPassesPerBatch(context.isCpuDevice(),
@@ -228,41 +270,18 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         starts.upload(start.samples);
         runChains(0, gpu::PSSMLT_FLAG_START);
-        PassClock clock(session);
-        for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass();) {
-            const uint32_t count = std::min(together, spp - pass);
-            if (count == 1) {
-                for (uint32_t done = 0; done < stepsPerPass;) {
-                    const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
-                    runChains(steps, 0);
-                    mutations += uint64_t(chains) * steps;
-                    done += steps;
-                    if (clock.abandon()) {
-                        interrupted = true;
-                        break;
-                    }
-                }
-            } else {
-                // All of `count` passes' steps in one submission, every chain in each dispatch.
-                batches.begin();
-                batch.bind(work);
-                push.flags = 0;
-                push.first = 0;
-                push.count = chains;
-                for (uint32_t done = 0; done < count * stepsPerPass;) {
-                    push.steps = std::min(o.stepsPerDispatch, count * stepsPerPass - done);
-                    batch.dispatch(chainKernel, push, push.count);
-                    done += push.steps;
-                }
-                batches.submit();
-                mutations += uint64_t(chains) * stepsPerPass * count;
-                interrupted = clock.abandon();
-            }
-            if (interrupted) break;
-            completeRedistributionPass(session, splat, depositEnergy, pixels, pass + count - 1, spp, count);
-            clock.passDone();
-            pass += count;
-        }
+        mutations = runPasses(session, splat, batches, work, depositEnergy, pixels, spp, chains, stepsPerPass,
+                              o.stepsPerDispatch, together, interrupted, [&](uint32_t steps) { runChains(steps, 0); },
+                              [&](uint32_t steps) {
+                                  push.flags = 0;
+                                  push.first = 0;
+                                  push.count = chains;
+                                  for (uint32_t done = 0; done < steps;) {
+                                      push.steps = std::min(o.stepsPerDispatch, steps - done);
+                                      batch.dispatch(chainKernel, push, push.count);
+                                      done += push.steps;
+                                  }
+                              });
     }
     session.progress().finish();
 
@@ -411,7 +430,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
             c += push.count;
         }
     };
-    // Passes run together as over pt (renderOverPt): the image is the same bits for any count.
+    // Passes run together (runPasses): the same bits for any count.
     const uint32_t together = o.passesPerBatch > 0
                                   ? o.passesPerBatch
                                   : PssmltOptions::defaultPassesPerBatch(context.isCpuDevice(),
@@ -419,37 +438,14 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         starts.upload(start.samples);
         runChains(0, gpu::PSSMLT_FLAG_START);
-        PassClock clock(session);
-        for (uint32_t pass = 0; pass < spp && !interrupted && clock.startPass();) {
-            const uint32_t count = std::min(together, spp - pass);
-            if (count == 1) {
-                for (uint32_t done = 0; done < stepsPerPass;) {
-                    const uint32_t steps = std::min(o.stepsPerDispatch, stepsPerPass - done);
-                    runChains(steps, 0);
-                    mutations += uint64_t(chains) * steps;
-                    done += steps;
-                    if (clock.abandon()) {
-                        interrupted = true;
-                        break;
-                    }
-                }
-            } else {
-                // All of `count` passes' steps in one submission, every chain in each dispatch.
-                batches.begin();
-                batch.bind(work);
-                push.flags = 0;
-                push.first = 0;
-                push.count = chains;
-                for (uint32_t k = 0; k < count * stepsPerPass; ++k) recordStep();
-                batches.submit();
-                mutations += uint64_t(chains) * stepsPerPass * count;
-                interrupted = clock.abandon();
-            }
-            if (interrupted) break;
-            completeRedistributionPass(session, splat, depositEnergy, pixels, pass + count - 1, spp, count);
-            clock.passDone();
-            pass += count;
-        }
+        mutations = runPasses(session, splat, batches, work, depositEnergy, pixels, spp, chains, stepsPerPass,
+                              o.stepsPerDispatch, together, interrupted, [&](uint32_t steps) { runChains(steps, 0); },
+                              [&](uint32_t steps) {
+                                  push.flags = 0;
+                                  push.first = 0;
+                                  push.count = chains;
+                                  for (uint32_t k = 0; k < steps; ++k) recordStep();
+                              });
     }
     session.progress().finish();
     return pssmltOutput(session, splat, batches,

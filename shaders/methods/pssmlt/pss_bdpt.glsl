@@ -31,17 +31,7 @@ uint mmltStrategies(uint depth) { return depth == 0u ? 1u : depth + 2u; }
 // The sampler of chain `chain` in state st, at its proposal (st.iteration; at 0 the start, which
 // reads the coordinates as they are), at dimension 0.
 Sampler pssBdptSampler(uint chain, PssmltBdptChain st) {
-    Sampler s;
-    s.chain = chain;
-    s.stride = push.chainStride;
-    s.dimensions = push.dimensions;
-    s.dimension = 0u;
-    s.iteration = st.iteration;
-    s.lastLargeStep = st.lastLargeStep;
-    s.largeStep = st.largeStep != 0u;
-    s.sigma = push.sigma;
-    s.rng.state = st.rng;
-    return s;
+    return pssSampler(push, chain, st.rng, st.iteration, st.lastLargeStep, st.largeStep != 0u);
 }
 
 #endif

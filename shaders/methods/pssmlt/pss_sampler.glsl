@@ -56,6 +56,23 @@ float pssCoordinateAt(inout Sampler s, uint d) {
     return x.value;
 }
 
+// The sampler of chain `chain` at dimension 0, from its state (rng, iteration, last large step,
+// whether the proposal is a large step) and the kernel's push constants p (the storage's row
+// length, the coordinates stored, the small step's sigma). Over pt and over bdpt.
+Sampler pssSampler(PssmltPush p, uint chain, uint rng, uint iteration, uint lastLargeStep, bool largeStep) {
+    Sampler s;
+    s.chain = chain;
+    s.stride = p.chainStride;
+    s.dimensions = p.dimensions;
+    s.dimension = 0u;
+    s.iteration = iteration;
+    s.lastLargeStep = lastLargeStep;
+    s.largeStep = largeStep;
+    s.sigma = p.sigma;
+    s.rng.state = rng;
+    return s;
+}
+
 #ifdef PSS_SAMPLER_PAIRS
 // A dimension is a pair of coordinates, 2 d and 2 d + 1, whether the caller draws one number or
 // two: the dimensions of common/sampler.glsl, which the bdpt kernels address (bdpt_vertex.glsl).

@@ -14,17 +14,7 @@
 
 // The sampler of chain `chain` in state `st`.
 Sampler pssChainSampler(uint chain, PssmltChain st) {
-    Sampler s;
-    s.chain = chain;
-    s.stride = push.chainStride;
-    s.dimensions = push.dimensions;
-    s.dimension = 0u;
-    s.iteration = st.iteration;
-    s.lastLargeStep = st.lastLargeStep;
-    s.largeStep = false;
-    s.sigma = push.sigma;
-    s.rng.state = st.rng;
-    return s;
+    return pssSampler(push, chain, st.rng, st.iteration, st.lastLargeStep, false);
 }
 
 // Ends the proposal whose estimate is Ly at pixel yPixel: deposits, then accepts or rejects.
