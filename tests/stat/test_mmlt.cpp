@@ -6,9 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <string>
-#include <vector>
 
 #include "gpu_test.h"
 #include "render_test.h"
@@ -87,67 +84,5 @@ TEST_F(MmltTest, DISABLED_UnbiasedOnCornellGlass) {
     expectUnbiased(testScene("scenes/cornell-glass.glb"), s, 24, 20);
 }
 
-}  // namespace
-}  // namespace pmcr::test
-
-// EXPERIMENT (throwaway): env-driven z-test with a cached pt reference.
-namespace pmcr::test {
-namespace {
-static std::string envOr(const char* k, const char* d) { const char* v = std::getenv(k); return v ? v : d; }
-TEST_F(MmltTest, DISABLED_Experiment) {
-    const std::string scenePath = envOr("EXP_SCENE", "scenes/cornell-glass.glb");
-    const int depth = std::stoi(envOr("EXP_DEPTH", "8"));
-    const int size = std::stoi(envOr("EXP_SIZE", "20"));
-    const int refRenders = std::stoi(envOr("EXP_REF_RENDERS", "16"));
-    const uint32_t refSpp = uint32_t(std::stoi(envOr("EXP_REF_SPP", "1024")));
-    const Scene& scene = testScene(scenePath);
-    std::string tag = scenePath.substr(scenePath.find('/') + 1) + "_" + std::to_string(depth) + "_" +
-                      std::to_string(size) + "_" + std::to_string(refSpp) + "_" + std::to_string(refRenders);
-    const std::string cache = "/tmp/exp_ref_" + tag + ".bin";
-    std::vector<float> rmean, rvar;
-    int rcount = 0;
-    if (FILE* f = std::fopen(cache.c_str(), "rb")) {
-        size_t n = 0;
-        std::fread(&n, sizeof n, 1, f);
-        rmean.resize(n); rvar.resize(n);
-        std::fread(rmean.data(), 4, n, f); std::fread(rvar.data(), 4, n, f); std::fread(&rcount, 4, 1, f);
-        std::fclose(f);
-    } else {
-        const ImageMoments ref = renderMoments(scene, renderSettings("pt", size, size, refSpp, depth), refRenders, 5000);
-        rmean = ref.mean(); rvar = ref.variance(); rcount = ref.count();
-        FILE* g = std::fopen(cache.c_str(), "wb");
-        size_t n = rmean.size();
-        std::fwrite(&n, sizeof n, 1, g);
-        std::fwrite(rmean.data(), 4, n, g); std::fwrite(rvar.data(), 4, n, g); std::fwrite(&rcount, 4, 1, g);
-        std::fclose(g);
-    }
-    RenderSettings s = renderSettings(envOr("EXP_METHOD", "mmlt"), size, size,
-                                      uint32_t(std::stoi(envOr("EXP_SPP", "16"))), depth);
-    std::string opts = envOr("EXP_OPTS", "");
-    for (size_t p = 0; p < opts.size();) {
-        size_t c = opts.find(',', p);
-        if (c == std::string::npos) c = opts.size();
-        std::string kv = opts.substr(p, c - p);
-        size_t e = kv.find('=');
-        if (e != std::string::npos) s.options[kv.substr(0, e)] = kv.substr(e + 1);
-        p = c + 1;
-    }
-    const int renders = std::stoi(envOr("EXP_RENDERS", "24"));
-    const auto t0 = std::chrono::steady_clock::now();
-    const ImageMoments m = renderMoments(scene, s, renders, uint32_t(std::stoi(envOr("EXP_SEED", "1000"))));
-    const PixelTestResult r = pixelZTest(m.mean(), m.variance(), renders, rmean, rvar, rcount);
-    double a = 0, b = 0;
-    for (size_t i = 0; i < rmean.size(); ++i) { a += m.mean()[i]; b += rmean[i]; }
-    std::printf("EXP %s: %s (%.1f s); sum %.4f vs pt %.4f\n", s.method.c_str(), r.describe().c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), a, b);
-    const std::string out = envOr("EXP_OUT", "");
-    if (!out.empty()) {
-        FILE* f = std::fopen(out.c_str(), "wb");
-        std::vector<float> mm = m.mean(), mv = m.variance();
-        std::fwrite(mm.data(), 4, mm.size(), f); std::fwrite(mv.data(), 4, mv.size(), f);
-        std::fwrite(rmean.data(), 4, rmean.size(), f); std::fwrite(rvar.data(), 4, rvar.size(), f);
-        std::fclose(f);
-    }
-}
 }  // namespace
 }  // namespace pmcr::test

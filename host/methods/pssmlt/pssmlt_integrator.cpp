@@ -1,7 +1,6 @@
 #include "methods/pssmlt/pssmlt_integrator.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -396,17 +395,9 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
         push.first = first;
         push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
         push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
-        if (std::getenv("PMCR_EXPERIMENT_MC")) push.flags |= 8u;
-        if (const char* k = std::getenv("PMCR_EXPERIMENT_KEEP")) push.flags |= uint32_t(std::atoi(k));
         recordStep();
         batches.submit();
         interrupted = session.interrupted();
-    }
-    if (std::getenv("PMCR_EXPERIMENT_MC")) {
-        splat.completePass(1);
-        return pssmltOutput(session, splat, batches,
-                            {nullptr, bootstrapSamples, 0.0, chains, 0, 1, dimensions,
-                             float(double(depths) / double(bootstrapSamples) * pixels), 0});
     }
     MetropolisStart start;
     if (!interrupted) {

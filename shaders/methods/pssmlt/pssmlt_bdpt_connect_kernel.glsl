@@ -25,15 +25,6 @@ void appendSplat(uint chain, inout uint count, uint pixel, vec3 rgb) {
     count += 1u;
 }
 
-// EXPERIMENT: keep only some strategies (flags 16: t = 1, 32: s = 0, 64: the others).
-bool expKeep(uint s, uint t) {
-    uint f = push.flags & 112u;
-    if (f == 0u) return true;
-    if (t == 1u) return (f & 16u) != 0u;
-    if (s == 0u) return (f & 32u) != 0u;
-    return (f & 64u) != 0u;
-}
-
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint rays = 0u;
@@ -59,8 +50,8 @@ void main() {
             vec3 c;
             float w;
             uint target;
-            if (expKeep(s, t) && evaluateStrategy(st, rays, c, w, target))
-                appendSplat(chain, count, target, c * (w * ((push.flags & 128u) != 0u ? 1.0 : float(mmltStrategies(chainState.depth)))));
+            if (evaluateStrategy(st, rays, c, w, target))
+                appendSplat(chain, count, target, c * (w * float(mmltStrategies(chainState.depth))));
         }
 #else
         st.L = vec3(0.0);
@@ -72,7 +63,7 @@ void main() {
             vec3 c;
             float w;
             uint target;
-            if (expKeep(st.s, st.t) && evaluateStrategy(st, rays, c, w, target)) {
+            if (evaluateStrategy(st, rays, c, w, target)) {
                 vec3 weighted = c * w;
                 if (st.t == 1u) appendSplat(chain, count, target, weighted);
                 else st.L += weighted;

@@ -61,13 +61,6 @@ void main() {
         if (!isFinite(Ly)) c.nanPaths += 1u;
         if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u) {
             weights[push.first + i] = Fy;
-            if ((push.flags & 8u) != 0u) {  // EXPERIMENT: plain MC, L deposited
-                Sampler smc = pssBdptSampler(chain, st);
-                for (uint k = 0u; k < st.proposalCount; ++k) {
-                    PssmltSplat e = splatLists[pssSplatIndex(chain, 1u, k)];
-                    if (maxComponent(e.rgb) > 0.0) splatDeposit(e.pixel, e.rgb, 1.0, smc.rng);
-                }
-            }
         } else if ((push.flags & PSSMLT_FLAG_START) != 0u) {
             for (uint k = 0u; k < st.proposalCount; ++k)
                 splatLists[pssSplatIndex(chain, 0u, k)] = splatLists[pssSplatIndex(chain, 1u, k)];

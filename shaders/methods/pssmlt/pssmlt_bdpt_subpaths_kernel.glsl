@@ -63,7 +63,6 @@ void main() {
         uint strategies = mmltStrategies(st.depth);
         smp.dimension = MMLT_STRATEGY_DIMENSION(push.maxDepth);
         uint s = min(uint(samplerGet1D(smp) * float(strategies)), strategies - 1u);
-        if ((push.flags & 128u) != 0u) s = 0u;  // EXPERIMENT: s = 0 only
         smp.dimension = 0u;
         uint cameraVertexCount = st.depth + 2u - s;
         // s <= 1 needs no light subpath: s = 1 samples a light from the camera vertex.
