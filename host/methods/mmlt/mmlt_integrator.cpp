@@ -5,7 +5,7 @@
 namespace pmcr {
 
 Mmlt::Mmlt(const RenderSettings& settings)
-    : m_options(PssmltOptions::fromSettings(settings, kDefaultBootstrap)) {}
+    : m_options(PssmltOptions::fromSettings(settings, "mmlt", kDefaultBootstrap)) {}
 
 RenderOutput Mmlt::render(RenderSession& session) { return renderChainsOverBdpt(session, m_options, true); }
 
@@ -14,7 +14,9 @@ MethodInfo mmltMethod() {
             "multiplexed MLT (Hachisuka et al. 2014, as pbrt-v4's mlt): primary-sample-space chains of a fixed "
             "path depth over bdpt, each step one connection strategy picked by the chain",
             true,
-            {{"bootstrap", "1", "bdpt samples per pixel of each depth estimating b and starting the chains"},
+            {{"bootstrap", "0",
+               "samples per pixel of each depth estimating b and starting the chains (0: enough for 4096 of "
+               "each depth, at least 1)"},
              {"chains", "0", "chains in parallel (0: one per pixel, at most 4096 on a CPU device, 65536 on a GPU)"},
              {"large-step", "0.3", "probability of a large step (every random number drawn anew)"},
              {"sigma", "0.01", "small step: standard deviation of the wrapped Gaussian offset"},

@@ -73,14 +73,17 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
 
 }  // namespace
 
-PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s, uint32_t defaultBootstrap) {
+PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s, const char* method, uint32_t defaultBootstrap) {
     PssmltOptions o;
     o.bootstrapSpp = defaultBootstrap;
     const std::string over = s.optionString("over", "bdpt");
     if (over != "bdpt" && over != "pt") throw Error("--over: expected bdpt or pt, got '" + over + "'");
     o.overBdpt = over == "bdpt";
     const int bootstrap = s.optionInt("bootstrap", int(o.bootstrapSpp));
-    if (bootstrap < 1 || bootstrap > 4096) throw Error("--bootstrap: expected 1..4096 samples per pixel");
+    const int least = defaultBootstrap == 0 ? 0 : 1;
+    if (bootstrap < least || bootstrap > 4096)
+        throw Error("--bootstrap: expected " + std::to_string(least) + "..4096 samples per pixel" +
+                    (least == 0 ? " (0: automatic)" : ""));
     o.bootstrapSpp = uint32_t(bootstrap);
     const int chains = s.optionInt("chains", 0);
     if (chains < 0 || uint32_t(chains) > kMaxChains)
@@ -98,7 +101,7 @@ PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s, uint32_t defa
     if (together < 0 || together > 1024) throw Error("--passes-per-batch: expected 0..1024 (0 = from the device)");
     o.passesPerBatch = uint32_t(together);
     if (s.maxDepth > gpu::PSSMLT_MAX_DEPTH)
-        throw Error("--max-depth: pssmlt holds the random numbers of at most " +
+        throw Error(std::string("--max-depth: ") + method + " holds the random numbers of at most " +
                     std::to_string(gpu::PSSMLT_MAX_DEPTH) + " bounces");
     return o;
 }
@@ -107,6 +110,11 @@ uint32_t PssmltOptions::defaultPassesPerBatch(bool cpuDevice, uint64_t mutations
     if (cpuDevice) return 1;
     const uint64_t target = uint64_t(1) << 20;
     return uint32_t(std::clamp<uint64_t>((target + mutationsPerPass - 1) / std::max<uint64_t>(mutationsPerPass, 1), 1, 64));
+}
+
+uint32_t PssmltOptions::bootstrapPerPixel(uint32_t pixels) const {
+    if (bootstrapSpp > 0) return bootstrapSpp;
+    return std::max(1u, (kMinBootstrapPerDepth + pixels - 1) / std::max(pixels, 1u));
 }
 
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
@@ -321,7 +329,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                     " MiB (at most 1024); lower --chains or --max-depth");
     // One pass: about one mutation per pixel.
     const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
-    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels * depths;
+    const uint64_t bootstrapSamples = uint64_t(o.bootstrapPerPixel(pixels)) * pixels * depths;
     if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
         throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
 
