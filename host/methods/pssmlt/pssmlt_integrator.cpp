@@ -17,7 +17,7 @@ namespace pmcr {
 
 namespace {
 
-constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per dispatch (CPU)
+constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per submission (CPU)
 constexpr VkDeviceSize kMaxPrimaryBytes = 1ull << 30;   // primary-sample storage
 
 // What a render did, for its statistics.
@@ -394,16 +394,22 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     };
 
     // Bootstrap: F of uniform primary vectors, W_i = F(u_i) * pixels (Veach 1997 sec. 11.3.1),
-    // each a chain slot's start, `chains` samples a dispatch.
+    // each a chain slot's start, `chains` samples a step and about kBootstrapChunk a submission
+    // (a small image has few chains, and a submission per step took longer than its samples on
+    // lavapipe: mmlt's default bootstrap at 20 x 20 is 99 steps of 400).
+    const uint32_t stepsPerSubmission = std::max(1u, kBootstrapChunk / chains);
     const double bootstrapStart = session.elapsedSeconds();
     bool interrupted = false;
-    for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chains) {
+    for (uint32_t first = 0; first < bootstrapSamples && !interrupted;) {
         batches.begin();
         batch.bind(work);
-        push.first = first;
-        push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
-        push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
-        recordStep();
+        for (uint32_t k = 0; k < stepsPerSubmission && first < bootstrapSamples; ++k) {
+            push.first = first;
+            push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
+            push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
+            recordStep();
+            first += push.count;
+        }
         batches.submit();
         interrupted = session.interrupted();
     }
