@@ -4,6 +4,7 @@
 #include "methods/bdpt/bdpt_integrator.h"
 #include "methods/erpt/erpt_integrator.h"
 #include "methods/mlt/mlt_integrator.h"
+#include "methods/mmlt/mmlt_integrator.h"
 #include "methods/pm/pm_integrator.h"
 #include "methods/pmc_er/pmc_er_integrator.h"
 #include "methods/pmc_ip/pmc_ip_integrator.h"
@@ -28,6 +29,7 @@ const std::vector<MethodInfo>& methods() {
         pmcPtMethod(),
         mltMethod(),
         pssmltMethod(),
+        mmltMethod(),
         pmMethod(),
         pmPmcMethod(),
     };

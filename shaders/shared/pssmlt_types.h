@@ -72,6 +72,16 @@ PMCR_CHECK_SIZE(PssmltPush, 56);
 // BDPT_CONNECT_DIMENSION, then the s = 1 light samples of camera vertices 0 .. maxDepth + 1 at
 // BDPT_CONNECT_DIMENSION + 2 (t - 1), two each (bdpt_vertex.glsl).
 #define PSSMLT_BDPT_DIMENSIONS(maxDepth) (2u * (BDPT_CONNECT_DIMENSION(maxDepth) + 2u * ((maxDepth) + 2u)))
+// Multiplexed MLT (`mmlt`; Hachisuka, Kaplanyan and Dachsbacher 2014, as pbrt-v4's
+// MLTIntegrator) runs the same three dispatches (the mmlt_*.comp kernels: the pssmlt_bdpt
+// bodies with PSS_MULTIPLEXED) over chains of a fixed depth d: a proposal picks one strategy
+// (s, t), s + t = d + 2, from the coordinates at MMLT_STRATEGY_DIMENSION, walks a camera subpath
+// of exactly t vertices and a light subpath of s, and evaluates only that connection, its MIS
+// weight times the d + 2 strategies (eq. 6 of the paper; pbrt-v4 MLTIntegrator::L). Its list is
+// one splat. The three streams of pbrt-v4 (camera, light, connection) are bdpt's dimension
+// ranges: from 0, from BDPT_LIGHT_DIMENSION, from BDPT_CONNECT_DIMENSION.
+#define MMLT_STRATEGY_DIMENSION(maxDepth) (BDPT_CONNECT_DIMENSION(maxDepth) + 2u * ((maxDepth) + 2u))
+#define MMLT_DIMENSIONS(maxDepth) (2u * (MMLT_STRATEGY_DIMENSION(maxDepth) + 1u))
 // Splats in a state's list: at most one per light vertex s >= 2 (t = 1) and the camera pixel's.
 #define PSSMLT_BDPT_SPLATS(maxDepth) ((maxDepth) + 2u)
 
@@ -91,9 +101,11 @@ struct PssmltBdptChain {
     uint currentCount;         // splats in x's list
     uint proposalCount;        // splats in y's list
     uint proposalPixel;        // y's camera sample pixel
+    uint depth;                // mmlt: the chain's path depth (bounces), fixed at its start
+    uint strategy;             // mmlt: the proposal's s (light vertices); t = depth + 2 - s
     uint pad;
 };
-PMCR_CHECK_SIZE(PssmltBdptChain, 32);
+PMCR_CHECK_SIZE(PssmltBdptChain, 40);
 
 // Work-set bindings of the pssmlt-over-bdpt kernels, besides 0 .. 3, 6, 7 and 9 above.
 PMCR_CONST uint PSSMLT_BINDING_CAMERA_VERTICES = 10;  // BdptVertex[chain * cameraStride + i]

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "gpu_test.h"
 #include "scene/environment.h"
@@ -82,7 +83,11 @@ void expectPssmltMutationsDepositOneUnit(RenderSettings settings, double energyT
     EXPECT_EQ(m["passes"].get<int>(), 3);
     EXPECT_EQ(m["steps_per_pass"].get<uint32_t>(), 10u);  // round(1024 / 100)
     EXPECT_EQ(m["mutations"].get<uint64_t>(), 3000u);
-    EXPECT_EQ(m["bootstrap_samples"].get<uint64_t>(), 4u * 1024u);
+    // --bootstrap samples per pixel (4 unless set), of each depth 0 .. maxDepth for mmlt.
+    const auto option = settings.options.find("bootstrap");
+    const uint64_t perPixel = option != settings.options.end() ? std::stoull(option->second) : 4u;
+    const uint64_t depths = settings.method == "mmlt" ? settings.maxDepth + 1u : 1u;
+    EXPECT_EQ(m["bootstrap_samples"].get<uint64_t>(), perPixel * 1024u * depths);
     EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
     EXPECT_NEAR(m["energy_not_deposited"].get<double>(), 0.0, energyTolerance);
     const double large = m["large_step_proposed"].get<double>();

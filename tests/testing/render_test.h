@@ -38,11 +38,12 @@ RenderSettings renderSettings(const std::string& method, int width, int height, 
 // (test_er_lights.cpp) and of the material extensions (test_material_extensions.cpp).
 RenderSettings chainZTestSettings(const std::string& method, uint32_t spp);
 
-// pssmlt's bookkeeping on cornell-glass at 32 x 32 with 100 chains and 3 passes of `settings`:
+// pssmlt's and mmlt's bookkeeping on cornell-glass at 32 x 32 with 100 chains and 3 passes of
+// `settings` (--bootstrap samples per pixel, of each depth for mmlt):
 // each pass about one mutation per pixel (10 steps of 100 chains), every mutation depositing
 // e_d in all (within `energyTolerance`, relative), none dropped, both kinds of step proposed
 // (30% large) and accepted, and b_hat close to the image's total luminance. Over pt and over
-// bdpt (test_pssmlt.cpp, test_pssmlt_bdpt.cpp).
+// bdpt (test_pssmlt.cpp, test_pssmlt_bdpt.cpp) and mmlt's (test_mmlt.cpp).
 void expectPssmltMutationsDepositOneUnit(RenderSettings settings, double energyTolerance);
 
 // Renders `scene` with `settings` (size resolved from the scene when 0).

@@ -17,7 +17,7 @@ namespace pmcr {
 
 namespace {
 
-constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per dispatch (CPU)
+constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per submission (CPU)
 constexpr VkDeviceSize kMaxPrimaryBytes = 1ull << 30;   // primary-sample storage
 
 // What a render did, for its statistics.
@@ -47,7 +47,6 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
     const uint64_t accepted = c.values[gpu::COUNTER_LARGE_ACCEPTED] + c.values[gpu::COUNTER_SMALL_ACCEPTED];
     const double deposited = batches.depositedEnergy();
     out.methodStats = {
-        {"over", run.over},
         {"passes", passes},
         {"bootstrap_samples", run.bootstrapSamples},
         {"normalization", run.normalization},  // b_hat: the image's total luminance
@@ -63,6 +62,7 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
         // of the sums, unless deposits were dropped.
         {"energy_not_deposited", run.mutations > 0 ? 1.0 - deposited / double(run.mutations) : 0.0},
     };
+    if (run.over) out.methodStats["over"] = run.over;
     out.methodStats.update(mutationStatistics(c));
     // ERPT's perturbations do not run here.
     for (const char* key : {"lens_proposed", "lens_acceptance", "caustic_proposed", "caustic_acceptance",
@@ -73,13 +73,17 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
 
 }  // namespace
 
-PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
+PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s, const char* method, uint32_t defaultBootstrap) {
     PssmltOptions o;
+    o.bootstrapSpp = defaultBootstrap;
     const std::string over = s.optionString("over", "bdpt");
     if (over != "bdpt" && over != "pt") throw Error("--over: expected bdpt or pt, got '" + over + "'");
     o.overBdpt = over == "bdpt";
     const int bootstrap = s.optionInt("bootstrap", int(o.bootstrapSpp));
-    if (bootstrap < 1 || bootstrap > 4096) throw Error("--bootstrap: expected 1..4096 samples per pixel");
+    const int least = defaultBootstrap == 0 ? 0 : 1;
+    if (bootstrap < least || bootstrap > 4096)
+        throw Error("--bootstrap: expected " + std::to_string(least) + "..4096 samples per pixel" +
+                    (least == 0 ? " (0: automatic)" : ""));
     o.bootstrapSpp = uint32_t(bootstrap);
     const int chains = s.optionInt("chains", 0);
     if (chains < 0 || uint32_t(chains) > kMaxChains)
@@ -97,7 +101,7 @@ PssmltOptions PssmltOptions::fromSettings(const RenderSettings& s) {
     if (together < 0 || together > 1024) throw Error("--passes-per-batch: expected 0..1024 (0 = from the device)");
     o.passesPerBatch = uint32_t(together);
     if (s.maxDepth > gpu::PSSMLT_MAX_DEPTH)
-        throw Error("--max-depth: pssmlt holds the random numbers of at most " +
+        throw Error(std::string("--max-depth: ") + method + " holds the random numbers of at most " +
                     std::to_string(gpu::PSSMLT_MAX_DEPTH) + " bounces");
     return o;
 }
@@ -108,10 +112,15 @@ uint32_t PssmltOptions::defaultPassesPerBatch(bool cpuDevice, uint64_t mutations
     return uint32_t(std::clamp<uint64_t>((target + mutationsPerPass - 1) / std::max<uint64_t>(mutationsPerPass, 1), 1, 64));
 }
 
+uint32_t PssmltOptions::bootstrapPerPixel(uint32_t pixels) const {
+    if (bootstrapSpp > 0) return bootstrapSpp;
+    return std::max(1u, (kMinBootstrapPerDepth + pixels - 1) / std::max(pixels, 1u));
+}
+
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
 
 RenderOutput Pssmlt::render(RenderSession& session) {
-    return m_options.overBdpt ? renderOverBdpt(session) : renderOverPt(session);
+    return m_options.overBdpt ? renderChainsOverBdpt(session, m_options, false) : renderOverPt(session);
 }
 
 // The passes of started chains, shared by both bases: `together` passes at a time, each about
@@ -291,39 +300,44 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
 
 // Over bdpt: the same bootstrap, chains, passes and deposits as over pt, a sample being one
 // bidirectional sample (shared/pssmlt_types.h) and a step three dispatches over the chains: the
-// proposal's subpaths, its connections into its splat list, the acceptance and deposits.
-RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
+// proposal's subpaths, its connections into its splat list, the acceptance and deposits. mmlt
+// (multiplexed) the same, a sample being one strategy of a chain's depth.
+RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o, bool multiplexed) {
     const RenderSettings& settings = session.settings();
     vk::Context& context = session.context();
-    const PssmltOptions& o = m_options;
+    const uint32_t kDefaultSpp = Pssmlt::kDefaultSpp;
     const uint32_t pixels = uint32_t(session.width()) * uint32_t(session.height());
     const uint32_t spp = settings.spp > 0 ? settings.spp
                          : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                                     : kDefaultSpp;
     const uint32_t chains =
         o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::defaultChains(context.isCpuDevice()));
-    const uint32_t dimensions = PSSMLT_BDPT_DIMENSIONS(settings.maxDepth);
+    const uint32_t dimensions =
+        multiplexed ? MMLT_DIMENSIONS(settings.maxDepth) : PSSMLT_BDPT_DIMENSIONS(settings.maxDepth);
+    // mmlt: --bootstrap samples per pixel of each depth 0 .. maxDepth (pbrt-v4 MLTIntegrator).
+    const uint32_t depths = multiplexed ? settings.maxDepth + 1 : 1;
     const uint32_t cameraStride = settings.maxDepth + 2;
     const uint32_t lightStride = settings.maxDepth + 1;
     const uint32_t splatsPerList = PSSMLT_BDPT_SPLATS(settings.maxDepth);
     const VkDeviceSize primaryBytes = VkDeviceSize(chains) * dimensions * sizeof(gpu::PrimarySample);
     const VkDeviceSize vertexBytes = VkDeviceSize(chains) * (cameraStride + lightStride) * sizeof(gpu::BdptVertex);
     if (primaryBytes + vertexBytes > kMaxPrimaryBytes)
-        throw Error("pssmlt: " + std::to_string(chains) + " chains of " + std::to_string(dimensions) +
+        throw Error(std::string(multiplexed ? "mmlt: " : "pssmlt: ") + std::to_string(chains) + " chains of " +
+                    std::to_string(dimensions) +
                     " random numbers and their subpaths need " +
                     std::to_string((primaryBytes + vertexBytes) >> 20) +
                     " MiB (at most 1024); lower --chains or --max-depth");
     // One pass: about one mutation per pixel.
     const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
-    const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
+    const uint64_t bootstrapSamples = uint64_t(o.bootstrapPerPixel(pixels)) * pixels * depths;
     if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
         throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
 
     // Build the pipelines before the clock starts (compilation is not rendering).
-    const vk::Kernel& subpathsKernel =
-        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bdpt_subpaths"));
-    const vk::Kernel& connectKernel =
-        session.kernel(lightsKernelVariant(session.scene(), "methods/pssmlt/pssmlt_bdpt_connect"));
+    const vk::Kernel& subpathsKernel = session.kernel(lightsKernelVariant(
+        session.scene(), multiplexed ? "methods/mmlt/mmlt_subpaths" : "methods/pssmlt/pssmlt_bdpt_subpaths"));
+    const vk::Kernel& connectKernel = session.kernel(lightsKernelVariant(
+        session.scene(), multiplexed ? "methods/mmlt/mmlt_connect" : "methods/pssmlt/pssmlt_bdpt_connect"));
     const vk::Kernel& stepKernel = session.kernel("methods/pssmlt/pssmlt_bdpt_step");
     session.startClock();
 
@@ -363,7 +377,9 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
     gpu::PssmltPush push{};
     push.seed = settings.seed;
     push.maxDepth = settings.maxDepth;
-    push.rrDepth = settings.rrDepth;
+    // mmlt's subpaths have the lengths of their strategy: no Russian roulette (pbrt-v4's
+    // MLTIntegrator has none), which would only end some of them short, F = 0.
+    push.rrDepth = multiplexed ? std::numeric_limits<uint32_t>::max() : settings.rrDepth;
     push.dimensions = dimensions;
     push.chainStride = chains;
     push.largeStepProbability = o.largeStepProbability;
@@ -378,16 +394,22 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
     };
 
     // Bootstrap: F of uniform primary vectors, W_i = F(u_i) * pixels (Veach 1997 sec. 11.3.1),
-    // each a chain slot's start, `chains` samples a dispatch.
+    // each a chain slot's start, `chains` samples a step and about kBootstrapChunk a submission
+    // (a small image has few chains, and a submission per step took longer than its samples on
+    // lavapipe: mmlt's default bootstrap at 20 x 20 is 99 steps of 400).
+    const uint32_t stepsPerSubmission = std::max(1u, kBootstrapChunk / chains);
     const double bootstrapStart = session.elapsedSeconds();
     bool interrupted = false;
-    for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chains) {
+    for (uint32_t first = 0; first < bootstrapSamples && !interrupted;) {
         batches.begin();
         batch.bind(work);
-        push.first = first;
-        push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
-        push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
-        recordStep();
+        for (uint32_t k = 0; k < stepsPerSubmission && first < bootstrapSamples; ++k) {
+            push.first = first;
+            push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
+            push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
+            recordStep();
+            first += push.count;
+        }
         batches.submit();
         interrupted = session.interrupted();
     }
@@ -398,7 +420,9 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
         start = chooseChainStarts(w, chains, settings.seed);
     }
     session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
-    const double normalization = start.normalization;
+    // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator; the
+    // bootstrap has as many samples of each depth).
+    const double normalization = start.normalization * depths;
     // e_d: each pass's chains * steps deposits share b (the image's total luminance).
     const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
 
@@ -439,8 +463,8 @@ RenderOutput Pssmlt::renderOverBdpt(RenderSession& session) {
     }
     session.progress().finish();
     return pssmltOutput(session, splat, batches,
-                        {"bdpt", bootstrapSamples, normalization, chains, stepsPerPass, together, dimensions,
-                         depositEnergy, mutations});
+                        {multiplexed ? nullptr : "bdpt", bootstrapSamples, normalization, chains, stepsPerPass,
+                         together, dimensions, depositEnergy, mutations});
 }
 
 MethodInfo pssmltMethod() {

@@ -26,7 +26,7 @@ namespace pmcr {
 
 struct PssmltOptions {
     bool overBdpt = true;                // --over bdpt (default) or pt: the estimator of a sample
-    uint32_t bootstrapSpp = 4;           // bootstrap samples per pixel
+    uint32_t bootstrapSpp = 4;           // bootstrap samples per pixel; 0: automatic (mmlt)
     uint32_t chains = 0;                 // 0: min(pixels, defaultChains(device))
     float largeStepProbability = 0.3f;   // Kelemen et al. 2002 sec. 4: p_large
     float sigma = 0.01f;                 // small step: wrapped Gaussian (pbrt-v3 MLTSampler)
@@ -45,7 +45,14 @@ struct PssmltOptions {
     // for the host between passes), at most 64.
     static uint32_t defaultPassesPerBatch(bool cpuDevice, uint64_t mutationsPerPass);
 
-    static PssmltOptions fromSettings(const RenderSettings& settings);
+    // The options as pssmlt and mmlt take them (`method` names the method in the errors);
+    // --bootstrap defaults to defaultBootstrap, and takes 0 (automatic) only where that is 0.
+    static PssmltOptions fromSettings(const RenderSettings& settings, const char* method = "pssmlt",
+                                      uint32_t defaultBootstrap = 4);
+    // mmlt's --bootstrap 0: samples per pixel of each depth for at least kMinBootstrapPerDepth
+    // samples of each depth, at least 1.
+    static constexpr uint32_t kMinBootstrapPerDepth = 4096;
+    uint32_t bootstrapPerPixel(uint32_t pixels) const;
 };
 
 class Pssmlt : public Integrator {
@@ -58,10 +65,14 @@ public:
 
 private:
     RenderOutput renderOverPt(RenderSession& session);
-    RenderOutput renderOverBdpt(RenderSession& session);
 
     PssmltOptions m_options;
 };
+
+// The chains over bdpt samples, of pssmlt --over bdpt or, `multiplexed`, of mmlt
+// (host/methods/mmlt): the bootstrap, the chains' starts, the passes of three dispatches a
+// step (shaders/methods/pssmlt/pssmlt_bdpt_*, shaders/methods/mmlt/), the image and the stats.
+RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& options, bool multiplexed);
 
 // The registry entry of `pssmlt` (render/methods.cpp).
 MethodInfo pssmltMethod();

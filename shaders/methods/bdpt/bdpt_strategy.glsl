@@ -80,21 +80,40 @@ void beginCameraVertex(inout SampleState st) {
     st.lightTail = 0.0;
 }
 
-// Moves st to its next strategy: s + 1, else the next camera vertex; false when none is left.
-bool nextStrategy(inout SampleState st) {
+// Moves st from strategy (s, t) to (s + 1, t), light vertex s existing.
+void nextLightVertex(inout SampleState st) {
     st.s += 1u;
-    if (st.s > st.counts.y || st.s + st.t > push.maxDepth + 2u) {
-        st.t += 1u;
-        if (st.t > st.counts.x) return false;
-        beginCameraVertex(st);
-        return true;
-    }
     if (st.s >= 3u) {
         BdptVertex v = lightVertex(st.s - 3u);
         bool deltaBefore = st.s >= 4u ? vertexDelta(lightVertex(st.s - 4u)) : vertexDeltaLight(v);
         st.lightTail = tailStep(st.lightTail, v, deltaBefore);
     }
+}
+
+// Moves st to its next strategy: s + 1, else the next camera vertex; false when none is left.
+bool nextStrategy(inout SampleState st) {
+    if (st.s + 1u > st.counts.y || st.s + 1u + st.t > push.maxDepth + 2u) {
+        st.t += 1u;
+        if (st.t > st.counts.x) return false;
+        beginCameraVertex(st);
+        return true;
+    }
+    nextLightVertex(st);
     return true;
+}
+
+// Starts st at strategy (0, 1) of its sample, then moves it to strategy (s, t), whose camera
+// vertices 0 .. t - 1 and light vertices 0 .. s - 1 exist (mmlt: one strategy a sample).
+void beginStrategy(inout SampleState st, uint s, uint t) {
+    st.L = vec3(0.0);
+    st.cameraTail = 0.0;
+    st.t = 1u;
+    beginCameraVertex(st);
+    while (st.t < t) {
+        st.t += 1u;
+        beginCameraVertex(st);
+    }
+    while (st.s < s) nextLightVertex(st);
 }
 
 // Strategy (st.s, st.t): its unweighted contribution c and MIS weight w, and the pixel it lands

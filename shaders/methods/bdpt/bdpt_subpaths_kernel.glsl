@@ -35,7 +35,7 @@ void beginSample(inout SampleWalks sw, uint index) {
     sw.smp = samplerCreate(pixel, push.sampleIndex, push.seed);
     vec2 u = independentPixelSamples() ? samplerGetIndependent2D(sw.smp) : samplerGet2D(sw.smp);
     vec2 raster = vec2(float(pixel % sceneInfo.width), float(pixel / sceneInfo.width)) + u;
-    sw.walk = cameraWalk(index * push.cameraStride, raster);
+    sw.walk = cameraWalk(index * push.cameraStride, raster, push.cameraStride);
     sw.lightPhase = false;
     sw.cameraCount = 0u;
 }
@@ -60,7 +60,7 @@ void main() {
                 sw.cameraCount = sw.walk.n;
                 sw.smp.dimension = bdptLightDimension(push.maxDepth);
                 sw.lightPhase = true;
-                if (lightWalk(sw.index * push.lightStride, sw.smp, sw.walk)) continue;
+                if (lightWalk(sw.index * push.lightStride, sw.smp, push.lightStride, sw.walk)) continue;
             }
             vertexCounts[sw.index] = uvec2(sw.cameraCount, sw.walk.n);
             done += 1u;

@@ -3,8 +3,8 @@
 // light subpath of up to push.lightStride, written to the vertex buffers (bdpt_vertex.glsl) one
 // ray at a time (walkStep), so that kernels can walk in turn within lavapipe's loop budget.
 // Random numbers come from the kernel's Sampler (common/sampler.glsl for bdpt, the primary
-// sample vector for pssmlt over bdpt) at the dimensions of bdpt_vertex.glsl. The kernel's push
-// constants have rrDepth, cameraStride and lightStride.
+// sample vector for pssmlt over bdpt and mmlt) at the dimensions of bdpt_vertex.glsl. The
+// kernel's push constants have rrDepth.
 #ifndef PMCR_BDPT_WALK_GLSL
 #define PMCR_BDPT_WALK_GLSL
 
@@ -137,8 +137,9 @@ bool walkStep(inout Walk w, inout Sampler smp, inout uint rays) {
     return true;
 }
 
-// The camera subpath through raster position `raster`: the pinhole, then the walk.
-Walk cameraWalk(uint base, vec2 raster) {
+// The camera subpath through raster position `raster`, of at most maxVertices vertices: the
+// pinhole, then the walk.
+Walk cameraWalk(uint base, vec2 raster, uint maxVertices) {
     BdptVertex c = bdptVertex(BDPT_CAMERA);
     c.position = sceneInfo.cameraPosition;
     c.normal = sceneInfo.cameraForward;
@@ -146,15 +147,16 @@ Walk cameraWalk(uint base, vec2 raster) {
     c.pdfFwd = 1.0;
     vec3 dir = cameraDirection(raster);
     return walkBegin(false, base, c, sceneInfo.cameraPosition, dir, vec3(1.0), cameraDirectionPdf(dir),
-                     push.cameraStride);
+                     maxVertices);
 }
 
 // The light subpath: a light picked as light sampling picks it (lights.glsl), a point on it and
 // a direction, as photons leave lights (photon_emission.glsl), then the walk. Vertex 0's beta is
 // its emitted radiance over the density of its position; the walk starts with
 // Le |cos| / (p_select p_pos p_dir) (Veach 1997 sec. 10.2).
-// False when the subpath ends at its light (w.n: 0 or 1 vertices, stored); else w is its walk.
-bool lightWalk(uint base, inout Sampler smp, out Walk w) {
+// False when the subpath ends at its light (w.n: 0 or 1 vertices, stored); else w is its walk,
+// of at most maxVertices vertices.
+bool lightWalk(uint base, inout Sampler smp, uint maxVertices, out Walk w) {
     w.n = 0u;
     float uLight = samplerGet1D(smp);
     vec2 uPoint = samplerGet2D(smp);
@@ -249,7 +251,7 @@ bool lightWalk(uint base, inout Sampler smp, out Walk w) {
         w.n = 1u;
         return false;
     }
-    w = walkBegin(true, base, l, origin, dir, beta, pdfDir, push.lightStride);
+    w = walkBegin(true, base, l, origin, dir, beta, pdfDir, maxVertices);
     return true;
 }
 

@@ -23,6 +23,11 @@ uint pssSplatIndex(uint chain, uint list, uint k) {
     return (2u * chain + list) * PSSMLT_BDPT_SPLATS(push.maxDepth) + k;
 }
 
+// mmlt: the strategies of a path of `depth` bounces that one proposal picks from: (s, t) with
+// s + t = depth + 2 and t >= 1, but only (0, 2) at depth 0 ((1, 1) is never evaluated, as in
+// bdpt: the camera sees a light through (0, 2); pbrt-v4 MLTIntegrator::L).
+uint mmltStrategies(uint depth) { return depth == 0u ? 1u : depth + 2u; }
+
 // The sampler of chain `chain` in state st, at its proposal (st.iteration; at 0 the start, which
 // reads the coordinates as they are), at dimension 0.
 Sampler pssBdptSampler(uint chain, PssmltBdptChain st) {

@@ -37,11 +37,27 @@ void main() {
         gLightBase = chain * push.lightStride;
         st.counts = vertexCounts[chain];
         st.smp = pssBdptSampler(chain, chainState);
+        uint count = 0u;
+#ifdef PSS_MULTIPLEXED
+        // Only the proposal's strategy, when its subpaths have their full lengths (else F = 0),
+        // its MIS weight times the number of strategies of its depth (mmltStrategies;
+        // Hachisuka et al. 2014 eq. 6; pbrt-v4 MLTIntegrator::L), at its pixel: the camera
+        // sample's or, for t = 1, the one its light vertex is seen through.
+        uint s = chainState.strategy;
+        uint t = chainState.depth + 2u - s;
+        if (st.counts.x == t && (s <= 1u || st.counts.y == s)) {
+            beginStrategy(st, s, t);
+            vec3 c;
+            float w;
+            uint target;
+            if (evaluateStrategy(st, rays, c, w, target))
+                appendSplat(chain, count, target, c * (w * float(mmltStrategies(chainState.depth))));
+        }
+#else
         st.L = vec3(0.0);
         st.cameraTail = 0.0;
         st.t = 1u;
         beginCameraVertex(st);
-        uint count = 0u;
         // At most cameraStride (lightStride + 1) strategies.
         for (uint b = 0u; b < push.cameraStride * (push.lightStride + 1u); ++b) {
             vec3 c;
@@ -55,6 +71,7 @@ void main() {
             if (!nextStrategy(st)) break;
         }
         appendSplat(chain, count, st.pixel, st.L);
+#endif
         chainState.proposalCount = count;
         chainState.rng = st.smp.rng.state;
         chains[chain] = chainState;

@@ -40,6 +40,8 @@ PssmltBdptChain startChain(uint chain, uint start) {
     st.currentCount = 0u;
     st.proposalCount = 0u;
     st.proposalPixel = 0u;
+    st.depth = start % (push.maxDepth + 1u);  // mmlt: bootstrap sample i has depth i mod (D + 1)
+    st.strategy = 0u;
     st.pad = 0u;
     return st;
 }
@@ -55,11 +57,26 @@ void main() {
         else st = chains[chain];
         Sampler smp = pssBdptSampler(chain, st);
         if ((push.flags & PSSMLT_FLAG_START) == 0u) pssBeginIteration(smp, push.largeStepProbability);
+#ifdef PSS_MULTIPLEXED
+        // One strategy of the chain's depth d: s uniform in 0 .. d + 1, t = d + 2 - s, and
+        // subpaths of exactly t and s vertices (pbrt-v4 MLTIntegrator::L; depth 0 has s = 0).
+        uint strategies = mmltStrategies(st.depth);
+        smp.dimension = MMLT_STRATEGY_DIMENSION(push.maxDepth);
+        uint s = min(uint(samplerGet1D(smp) * float(strategies)), strategies - 1u);
+        smp.dimension = 0u;
+        uint cameraVertexCount = st.depth + 2u - s;
+        // s <= 1 needs no light subpath: s = 1 samples a light from the camera vertex.
+        uint lightVertexCount = s >= 2u ? s : 0u;
+        st.strategy = s;
+#else
+        uint cameraVertexCount = push.cameraStride;
+        uint lightVertexCount = push.lightStride;
+#endif
         vec2 raster = pssRaster(smp);
         st.proposalPixel = pssPixel(raster);
         // The camera subpath, then the light subpath at its own dimensions; each walk takes at
         // most its stride in steps.
-        Walk w = cameraWalk(chain * push.cameraStride, raster);
+        Walk w = cameraWalk(chain * push.cameraStride, raster, cameraVertexCount);
         uint cameraCount = 0u;
         bool lightPhase = false;
         for (uint b = 0u; b < push.cameraStride + push.lightStride + 1u; ++b) {
@@ -68,7 +85,8 @@ void main() {
             cameraCount = w.n;
             smp.dimension = bdptLightDimension(push.maxDepth);
             lightPhase = true;
-            if (!lightWalk(chain * push.lightStride, smp, w)) break;
+            w.n = 0u;
+            if (lightVertexCount == 0u || !lightWalk(chain * push.lightStride, smp, lightVertexCount, w)) break;
         }
         vertexCounts[chain] = uvec2(cameraCount, w.n);
         st.iteration = smp.iteration;
