@@ -1,7 +1,7 @@
 // Every scene in scenes/ loads, has a light, and renders a few samples of path tracing without a
 // single NaN/Inf sample and without an all-black image; on one scene of each kernel variant, so do
-// a few mutations per pixel of the Metropolis methods (mlt, pssmlt: their own path construction),
-// a few photon passes (pm, pm-pmc: photons shot from every kind of light) and bidirectional
+// a few mutations per pixel of the Metropolis methods (mlt, pssmlt; mmlt on the box alone: their
+// own path construction), a few photon passes (pm, pm-pmc: photons shot from every kind of light) and bidirectional
 // samples (bdpt: light subpaths from every kind of light, splatted), without a dropped deposit.
 // Third-party samples without a light of their own (glTF sample models) are lit by the shipped
 // sky, as scenes/README.md says to.
@@ -95,7 +95,7 @@ TEST_P(SceneRenders, LoadsHasALightAndRendersWithoutNaNs) {
     s.height = 24;
     auto r = renderForTest(scene, s);
     EXPECT_EQ(r.stats["nan_samples_dropped"].get<uint64_t>(), 0u);
-    if (s.method == "mlt" || s.method == "pssmlt")
+    if (s.method == "mlt" || s.method == "pssmlt" || s.method == "mmlt")
         EXPECT_EQ(r.stats["method_stats"]["deposits_dropped"].get<uint64_t>(), 0u);
     if (s.method == "pm" || s.method == "pm-pmc") {
         EXPECT_EQ(r.stats["method_stats"]["photon_paths_out_of_slots"].get<uint64_t>(), 0u);
@@ -117,20 +117,21 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
     return name;
 }
 
-// check: every scene with pt, and the other methods' own path construction (mlt, pssmlt, bdpt)
-// and photon shooting (pm, pm-pmc) on the box with a glass sphere. The full tier: every method on
+// check: every scene with pt, and the other methods' own path construction (mlt, pssmlt, mmlt,
+// bdpt) and photon shooting (pm, pm-pmc) on the box with a glass sphere. The full tier: every method on
 // one scene of each kernel variant, pm and pm-pmc on every other one each (tests/CMakeLists.txt).
 INSTANTIATE_TEST_SUITE_P(AllScenes, SceneRenders,
                          ::testing::Combine(::testing::ValuesIn(sceneFiles()), ::testing::Values("pt")),
                          paramName);
 INSTANTIATE_TEST_SUITE_P(OneScene, SceneRenders,
                          ::testing::Combine(::testing::Values("scenes/cornell-glass.glb"),
-                                            ::testing::Values("mlt", "pssmlt", "pm", "pm-pmc", "bdpt")),
+                                            ::testing::Values("mlt", "pssmlt", "mmlt", "pm", "pm-pmc", "bdpt")),
                          paramName);
 // One suite per method, so that ctest runs them as entries of their own, side by side and each
 // well within its timeout. A second scene of a variant would render the same programs, so each
 // suite takes one scene per variant: on every scene, mlt took 147 s and pm-pmc 217 s with a cold
-// shader cache, mostly compiling. pm and pm-pmc shoot their photons with the same kernel and
+// shader cache, mostly compiling; 70 s and 102 s on these (and with GALLIVM_PERF=nopt,
+// tests/CMakeLists.txt). pm and pm-pmc shoot their photons with the same kernel and
 // differ in the gather: each takes every other variant, so that every variant's photons are shot
 // and both gathers see half of the variants.
 INSTANTIATE_TEST_SUITE_P(EveryMethodMlt, SceneRenders,
