@@ -103,9 +103,14 @@ struct PssmltBdptChain {
     uint proposalPixel;        // y's camera sample pixel
     uint depth;                // mmlt: the chain's path depth (bounces), fixed at its start
     uint strategy;             // mmlt: the proposal's s (light vertices); t = depth + 2 - s
-    uint pad;
+    // The proposal's reads, as the dimension after the last one it read in each range (camera
+    // from 0, light from BDPT_LIGHT_DIMENSION, connection from BDPT_CONNECT_DIMENSION): a
+    // rejection restores only these (pss_bdpt.glsl pssBdptReject).
+    uint cameraEnd;
+    uint lightEnd;
+    uint connectEnd;
 };
-PMCR_CHECK_SIZE(PssmltBdptChain, 40);
+PMCR_CHECK_SIZE(PssmltBdptChain, 48);
 
 // Work-set bindings of the pssmlt-over-bdpt kernels, besides 0 .. 3, 6, 7 and 9 above.
 PMCR_CONST uint PSSMLT_BINDING_CAMERA_VERTICES = 10;  // BdptVertex[chain * cameraStride + i]

@@ -20,10 +20,11 @@ public:
     RenderOutput render(RenderSession& session) override;
 
     static constexpr uint32_t kDefaultSpp = 64;
-    // --bootstrap 0: samples per pixel of each depth for at least 4096 of each depth
-    // (PssmltOptions::bootstrapPerPixel). With one per pixel, a small image's chains started at a
-    // handful of non-zero samples of the depth that carries the light (tests/stat: BLEND card,
-    // 22 of 96 at depth 1), and renders of few passes varied too much for the z-tests.
+    // --bootstrap 0: 4096 samples of each depth, whatever the image's size
+    // (PssmltOptions::bootstrapPerDepth). With one per pixel, a small image's chains started at
+    // a handful of non-zero samples of the depth that carries the light (tests/stat: BLEND card,
+    // 22 of 96 at depth 1), and renders of few passes varied too much for the z-tests; on a large
+    // one, one per pixel of each depth took 5.5 s of a 20 s render of room at 160x90 (16 bounces).
     static constexpr uint32_t kDefaultBootstrap = 0;
     uint32_t defaultSpp() const override { return kDefaultSpp; }
 

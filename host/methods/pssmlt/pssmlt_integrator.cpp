@@ -112,9 +112,8 @@ uint32_t PssmltOptions::defaultPassesPerBatch(bool cpuDevice, uint64_t mutations
     return uint32_t(std::clamp<uint64_t>((target + mutationsPerPass - 1) / std::max<uint64_t>(mutationsPerPass, 1), 1, 64));
 }
 
-uint32_t PssmltOptions::bootstrapPerPixel(uint32_t pixels) const {
-    if (bootstrapSpp > 0) return bootstrapSpp;
-    return std::max(1u, (kMinBootstrapPerDepth + pixels - 1) / std::max(pixels, 1u));
+uint64_t PssmltOptions::bootstrapPerDepth(uint32_t pixels) const {
+    return bootstrapSpp > 0 ? uint64_t(bootstrapSpp) * pixels : kAutoBootstrapPerDepth;
 }
 
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
@@ -314,7 +313,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
         o.chains > 0 ? o.chains : std::min(pixels, PssmltOptions::defaultChains(context.isCpuDevice()));
     const uint32_t dimensions =
         multiplexed ? MMLT_DIMENSIONS(settings.maxDepth) : PSSMLT_BDPT_DIMENSIONS(settings.maxDepth);
-    // mmlt: --bootstrap samples per pixel of each depth 0 .. maxDepth (pbrt-v4 MLTIntegrator).
+    // mmlt: as many bootstrap samples of each depth 0 .. maxDepth (pbrt-v4 MLTIntegrator).
     const uint32_t depths = multiplexed ? settings.maxDepth + 1 : 1;
     const uint32_t cameraStride = settings.maxDepth + 2;
     const uint32_t lightStride = settings.maxDepth + 1;
@@ -329,7 +328,8 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                     " MiB (at most 1024); lower --chains or --max-depth");
     // One pass: about one mutation per pixel.
     const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
-    const uint64_t bootstrapSamples = uint64_t(o.bootstrapPerPixel(pixels)) * pixels * depths;
+    const uint64_t bootstrapSamples =
+        multiplexed ? o.bootstrapPerDepth(pixels) * depths : uint64_t(o.bootstrapSpp) * pixels;
     if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
         throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
 

@@ -49,10 +49,10 @@ struct PssmltOptions {
     // --bootstrap defaults to defaultBootstrap, and takes 0 (automatic) only where that is 0.
     static PssmltOptions fromSettings(const RenderSettings& settings, const char* method = "pssmlt",
                                       uint32_t defaultBootstrap = 4);
-    // mmlt's --bootstrap 0: samples per pixel of each depth for at least kMinBootstrapPerDepth
-    // samples of each depth, at least 1.
-    static constexpr uint32_t kMinBootstrapPerDepth = 4096;
-    uint32_t bootstrapPerPixel(uint32_t pixels) const;
+    // mmlt's --bootstrap 0: kAutoBootstrapPerDepth samples of each depth, whatever the image's
+    // size (pbrt-v4 counts them per depth too); N > 0: N per pixel of each depth.
+    static constexpr uint32_t kAutoBootstrapPerDepth = 4096;
+    uint64_t bootstrapPerDepth(uint32_t pixels) const;
 };
 
 class Pssmlt : public Integrator {

@@ -34,4 +34,16 @@ Sampler pssBdptSampler(uint chain, PssmltBdptChain st) {
     return pssSampler(push, chain, st.rng, st.iteration, st.lastLargeStep, st.largeStep != 0u);
 }
 
+// Restores the coordinates the rejected proposal of chain st changed: those its kernels read,
+// range by range (st's ends, which they record), and mmlt's strategy, the last pair (none over
+// bdpt). Restoring every coordinate, as before, took as long as mmlt's walks on lavapipe (292
+// coordinates at --max-depth 16, of which a step reads about 10).
+void pssBdptReject(inout Sampler s, PssmltBdptChain st) {
+    pssRestore(s, 0u, 2u * st.cameraEnd);
+    pssRestore(s, 2u * BDPT_LIGHT_DIMENSION(push.maxDepth), 2u * st.lightEnd);
+    pssRestore(s, 2u * BDPT_CONNECT_DIMENSION(push.maxDepth), 2u * st.connectEnd);
+    pssRestore(s, 2u * MMLT_STRATEGY_DIMENSION(push.maxDepth), s.dimensions);
+    s.iteration -= 1u;
+}
+
 #endif

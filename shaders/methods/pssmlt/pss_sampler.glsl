@@ -113,22 +113,24 @@ void pssAccept(inout Sampler s) {
     if (s.largeStep) s.lastLargeStep = s.iteration;
 }
 
-// Restores the coordinates this iteration changed (those read, 0 .. dimension - 1; with
-// PSS_SAMPLER_PAIRS, whose reads are spread over kernels, all of them).
-void pssReject(inout Sampler s) {
-#ifdef PSS_SAMPLER_PAIRS
-    uint n = s.dimensions;
-#else
-    uint n = min(s.dimension, s.dimensions);
-#endif
-    for (uint d = 0u; d < n; ++d) {
+// Restores coordinates [begin, end) that this iteration changed.
+void pssRestore(Sampler s, uint begin, uint end) {
+    for (uint d = begin; d < min(end, s.dimensions); ++d) {
         uint index = d * s.stride + s.chain;
         if (primarySamples[index].lastModification == s.iteration) {
             primarySamples[index].value = primarySamples[index].valueBackup;
             primarySamples[index].lastModification = primarySamples[index].modificationBackup;
         }
     }
+}
+
+#ifndef PSS_SAMPLER_PAIRS
+// Restores the coordinates this iteration changed (those read, 0 .. dimension - 1). Over bdpt,
+// whose reads are spread over kernels: pssBdptReject (pss_bdpt.glsl).
+void pssReject(inout Sampler s) {
+    pssRestore(s, 0u, s.dimension);
     s.iteration -= 1u;
 }
+#endif
 
 #endif

@@ -72,6 +72,8 @@ void main() {
         }
         appendSplat(chain, count, st.pixel, st.L);
 #endif
+        // Each camera vertex's s = 1 light sample sits further on than the one before.
+        chainState.connectEnd = st.smp.dimension;
         chainState.proposalCount = count;
         chainState.rng = st.smp.rng.state;
         chains[chain] = chainState;

@@ -87,7 +87,7 @@ void main() {
                     splatLists[pssSplatIndex(chain, 0u, k)] = splatLists[pssSplatIndex(chain, 1u, k)];
                 st.currentCount = st.proposalCount;
             } else {
-                pssReject(s);
+                pssBdptReject(s, st);
             }
             st.rng = s.rng.state;
             st.iteration = s.iteration;

@@ -42,7 +42,9 @@ PssmltBdptChain startChain(uint chain, uint start) {
     st.proposalPixel = 0u;
     st.depth = start % (push.maxDepth + 1u);  // mmlt: bootstrap sample i has depth i mod (D + 1)
     st.strategy = 0u;
-    st.pad = 0u;
+    st.cameraEnd = 0u;
+    st.lightEnd = 0u;
+    st.connectEnd = 0u;
     return st;
 }
 
@@ -83,11 +85,15 @@ void main() {
             if (walkStep(w, smp, rays)) continue;
             if (lightPhase) break;
             cameraCount = w.n;
+            st.cameraEnd = smp.dimension;
             smp.dimension = bdptLightDimension(push.maxDepth);
             lightPhase = true;
             w.n = 0u;
             if (lightVertexCount == 0u || !lightWalk(chain * push.lightStride, smp, lightVertexCount, w)) break;
         }
+        // The walks read their ranges in order from their starts.
+        if (lightPhase) st.lightEnd = smp.dimension;
+        else st.cameraEnd = smp.dimension;
         vertexCounts[chain] = uvec2(cameraCount, w.n);
         st.iteration = smp.iteration;
         st.largeStep = smp.largeStep ? 1u : 0u;
