@@ -4,9 +4,9 @@
 // also picks which one of the d + 2 connection strategies (s, t) it evaluates: a camera subpath
 // of t vertices, a light subpath of s, the one connection, its MIS weight times d + 2. The
 // Metropolis steps then favour the strategies whose weighted contribution is large, the
-// multiplexing of the paper. A bootstrap of --bootstrap samples per pixel of each depth
-// estimates b (the sum over depths of each depth's mean) and starts the chains, the depth with
-// the sample (shared/pssmlt_types.h; the chains, passes and deposits are pssmlt's over bdpt,
+// multiplexing of the paper. A bootstrap of 4096 samples of each depth (or --bootstrap N per
+// pixel of each depth) estimates b (the sum over depths of each depth's mean) and starts the
+// chains, the depth with the sample (shared/pssmlt_types.h; the chains, passes and deposits are pssmlt's over bdpt,
 // host/methods/pssmlt: renderChainsOverBdpt).
 #pragma once
 

@@ -91,9 +91,9 @@ void main() {
             w.n = 0u;
             if (lightVertexCount == 0u || !lightWalk(chain * push.lightStride, smp, lightVertexCount, w)) break;
         }
-        // The walks read their ranges in order from their starts.
-        if (lightPhase) st.lightEnd = smp.dimension;
-        else st.cameraEnd = smp.dimension;
+        // The walks read their ranges in order from their starts; no light walk reads none.
+        if (!lightPhase) st.cameraEnd = smp.dimension;
+        st.lightEnd = lightPhase ? smp.dimension : 0u;
         vertexCounts[chain] = uvec2(cameraCount, w.n);
         st.iteration = smp.iteration;
         st.largeStep = smp.largeStep ? 1u : 0u;
