@@ -418,6 +418,12 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
         std::vector<float> w = weights.download<float>(bootstrapSamples);
         for (float& x : w) x *= float(pixels);
         start = chooseChainStarts(w, chains, settings.seed);
+        // mmlt: chains in order of depth (sample i has depth i mod (D + 1)), so that neighbouring
+        // invocations walk and connect paths of one length and a SIMD group waits for no longer
+        // walk; which slot a chain takes changes nothing of its law.
+        if (multiplexed)
+            std::stable_sort(start.samples.begin(), start.samples.end(),
+                             [&](uint32_t a, uint32_t b) { return a % depths < b % depths; });
     }
     session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
     // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator; the
