@@ -29,9 +29,12 @@ uint pssSplatIndex(uint chain, uint list, uint k) {
 uint mmltStrategies(uint depth) { return depth == 0u ? 1u : depth + 2u; }
 
 // The sampler of chain `chain` in state st, at its proposal (st.iteration; at 0 the start, which
-// reads the coordinates as they are), at dimension 0.
+// reads the coordinates as they are), at dimension 0. While bootstrapping, chain is a slot and
+// the sampler reads bootstrap sample push.first + chain, which nothing stores.
 Sampler pssBdptSampler(uint chain, PssmltBdptChain st) {
-    return pssSampler(push, chain, st.rng, st.iteration, st.lastLargeStep, st.largeStep != 0u);
+    Sampler s = pssSampler(push, chain, st.rng, st.iteration, st.lastLargeStep, st.largeStep != 0u);
+    if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u) s.bootstrapSample = push.first + chain;
+    return s;
 }
 
 // Restores the coordinates the rejected proposal of chain st changed: those its kernels read,

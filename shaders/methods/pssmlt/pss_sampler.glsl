@@ -32,13 +32,22 @@ struct Sampler {
     bool largeStep;
     float sigma;
     Rng rng;
+    uint seed;             // the render's: bootstrap coordinates (pss_mutation.glsl)
+    uint bootstrapSample;  // PSS_NO_BOOTSTRAP, or the bootstrap sample whose vector this reads
 };
+
+// A sampler of a chain, not of a bootstrap sample.
+const uint PSS_NO_BOOTSTRAP = 0xffffffffu;
 
 // Brings coordinate d up to date for this iteration (pbrt-v3 MLTSampler::EnsureReady) and
 // returns it.
 float pssCoordinateAt(inout Sampler s, uint d) {
     // Beyond the storage (never with dimensions = PSSMLT_DIMENSIONS(maxDepth)): a fresh number.
     if (d >= s.dimensions) return rngNext(s.rng);
+    // A bootstrap sample's vector is its coordinates' hashes, which a chain started at it stores:
+    // read without storing the vector (292 coordinates at --max-depth 16 over bdpt, where a
+    // sample reads about 10).
+    if (s.bootstrapSample != PSS_NO_BOOTSTRAP) return bootstrapCoordinate(s.seed, s.bootstrapSample, d);
     uint index = d * s.stride + s.chain;
     PrimarySample x = primarySamples[index];
     if (x.lastModification == s.iteration) return x.value;  // the start, or read twice
@@ -70,6 +79,8 @@ Sampler pssSampler(PssmltPush p, uint chain, uint rng, uint iteration, uint last
     s.largeStep = largeStep;
     s.sigma = p.sigma;
     s.rng.state = rng;
+    s.seed = p.seed;
+    s.bootstrapSample = PSS_NO_BOOTSTRAP;
     return s;
 }
 

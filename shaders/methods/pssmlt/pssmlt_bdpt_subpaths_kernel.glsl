@@ -26,11 +26,14 @@ layout(set = WORK_SET, binding = PSSMLT_BINDING_CHAIN_STARTS, scalar) readonly b
     uint chainStarts[];
 };
 
-// Chain `chain` at the primary vector of bootstrap sample `start`, iteration 0.
+// Chain `chain` at the primary vector of bootstrap sample `start`, iteration 0. A bootstrap
+// sample's vector is not stored: its sampler reads the coordinates' hashes (pssBdptSampler).
 PssmltBdptChain startChain(uint chain, uint start) {
-    for (uint d = 0u; d < push.dimensions; ++d) {
-        float v = bootstrapCoordinate(push.seed, start, d);
-        primarySamples[d * push.chainStride + chain] = PrimarySample(v, 0u, v, 0u);
+    if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) == 0u) {
+        for (uint d = 0u; d < push.dimensions; ++d) {
+            float v = bootstrapCoordinate(push.seed, start, d);
+            primarySamples[d * push.chainStride + chain] = PrimarySample(v, 0u, v, 0u);
+        }
     }
     PssmltBdptChain st;
     st.rng = hash3(push.seed ^ 0x3c5a17e1u, chain, 0u);
