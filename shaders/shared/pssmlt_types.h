@@ -54,8 +54,10 @@ struct PssmltPush {
     float sigma;               // standard deviation of a small step (Gaussian, wrapped)
     uint cameraStride;         // over bdpt: camera subpath vertices per chain (maxDepth + 2)
     uint lightStride;          // over bdpt: light subpath vertices per chain (maxDepth + 1)
+    uint sampleOffset;         // over bdpt, bootstrap: sample push.first + i is bootstrap sample
+                               // push.first + i + sampleOffset (its weight's index push.first + i)
 };
-PMCR_CHECK_SIZE(PssmltPush, 56);
+PMCR_CHECK_SIZE(PssmltPush, 60);
 
 // PSSMLT over bidirectional path tracing (--over bdpt; Kelemen et al. 2002 sec. 4 with
 // Veach 1997 ch. 10's estimator, as Mitsuba's PSSMLT): the primary vector drives one whole bdpt
@@ -82,6 +84,10 @@ PMCR_CHECK_SIZE(PssmltPush, 56);
 // ranges: from 0, from BDPT_LIGHT_DIMENSION, from BDPT_CONNECT_DIMENSION.
 #define MMLT_STRATEGY_DIMENSION(maxDepth) (BDPT_CONNECT_DIMENSION(maxDepth) + 2u * ((maxDepth) + 2u))
 #define MMLT_DIMENSIONS(maxDepth) (2u * (MMLT_STRATEGY_DIMENSION(maxDepth) + 1u))
+// mmlt's bootstrap sample k of depth d is sample number (d << MMLT_DEPTH_SHIFT) + k: its primary
+// vector's hashes (pss_mutation.glsl bootstrapCoordinate) and its chain's depth come from it.
+// 2^25 samples of each of the at most 101 depths.
+PMCR_CONST uint MMLT_DEPTH_SHIFT = 25u;
 // Splats in a state's list: at most one per light vertex s >= 2 (t = 1) and the camera pixel's.
 #define PSSMLT_BDPT_SPLATS(maxDepth) ((maxDepth) + 2u)
 

@@ -95,7 +95,13 @@ TEST_F(BlendCoverage, EveryMethodMatchesPathTracingPerPixel) {
         if (!method.create) continue;  // planned, not implemented
         SCOPED_TRACE(method.name);
         const RenderSettings s = renderSettings(method.name, kWidth, kHeight, kSpp, 4);
-        const PixelTestResult r = zTestRenders(scene, s, kRenders, 1000, reference);
+        // mmlt's renders here are heavy-tailed (only s = 0 carries the light, a proposal picks it
+        // once in three): with 16 renders, 16-render sets failed 1 to 2 of 96 pixels, all darker,
+        // in 1 of 6 seed bases (2026-11-29, before and after its bootstrap became stratified;
+        // 32 renders of 8 or 16 of 32 passes no better), the same pixels agreeing in other sets;
+        // with 64 renders, 4 of 4 sets passed (worst |z| 3.05 to 3.49).
+        const int renders = method.name == "mmlt" ? 64 : kRenders;
+        const PixelTestResult r = zTestRenders(scene, s, renders, 1000, reference);
         const glm::dvec3 m = imageMean(renderForTest(scene, s).output.image);
         std::printf("  %-14s image mean %.4f; %s\n", method.name.c_str(), m.y, r.describe().c_str());
         EXPECT_GE(r.passFraction, 0.9975) << r.describe();

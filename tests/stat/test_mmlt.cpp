@@ -43,8 +43,17 @@ TEST_F(MmltTest, SameSeedSameImageBitForBit) {
     RenderSettings other = s;
     other.seed = 2;
     EXPECT_NE(a.output.image.rgb, renderForTest(scene, other).output.image.rgb);
-    // --bootstrap 0 (the default): 4096 samples of each depth, whatever the image's size.
-    EXPECT_EQ(a.stats["method_stats"]["bootstrap_samples"].get<uint64_t>(), 4096u * 9u);
+    // --bootstrap 0 (the default): 16384 samples of each depth on average, whatever the
+    // image's size, allocated to the depths by a pilot of 512 of each.
+    const auto& m = a.stats["method_stats"];
+    EXPECT_EQ(m["bootstrap_samples"].get<uint64_t>(), 16384u * 9u);
+    EXPECT_EQ(m["bootstrap_pilot_samples"].get<uint64_t>(), 512u * 9u);
+    uint64_t allocated = 0;
+    for (const auto& n : m["bootstrap_samples_per_depth"]) {
+        EXPECT_GE(n.get<uint64_t>(), 16384u / 4u);  // the floor: a quarter spread evenly
+        allocated += n.get<uint64_t>();
+    }
+    EXPECT_EQ(allocated, 16384u * 9u);
     s.spp = 5;
     expectPassesPerBatchKeepTheImage(scene, s, 3);
 }

@@ -15,8 +15,8 @@ MethodInfo mmltMethod() {
             "path depth over bdpt, each step one connection strategy picked by the chain",
             true,
             {{"bootstrap", "0",
-               "samples per pixel of each depth estimating b and starting the chains (0: 4096 of each depth "
-               "in all)"},
+               "samples per pixel of each depth, on average, estimating b and starting the chains (0: 16384 of "
+               "each depth in all); a pilot of 512 of each depth gives the depths their shares"},
              {"chains", "0", "chains in parallel (0: one per pixel, at most 4096 on a CPU device, 65536 on a GPU)"},
              {"large-step", "0.3", "probability of a large step (every random number drawn anew)"},
              {"sigma", "0.01", "small step: standard deviation of the wrapped Gaussian offset"},

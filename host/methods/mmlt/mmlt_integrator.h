@@ -4,9 +4,10 @@
 // also picks which one of the d + 2 connection strategies (s, t) it evaluates: a camera subpath
 // of t vertices, a light subpath of s, the one connection, its MIS weight times d + 2. The
 // Metropolis steps then favour the strategies whose weighted contribution is large, the
-// multiplexing of the paper. A bootstrap of 4096 samples of each depth (or --bootstrap N per
-// pixel of each depth) estimates b (the sum over depths of each depth's mean) and starts the
-// chains, the depth with the sample (shared/pssmlt_types.h; the chains, passes and deposits are pssmlt's over bdpt,
+// multiplexing of the paper. A bootstrap stratified by depth, 16384 samples of each depth on
+// average (or --bootstrap N per pixel of each depth), allocated to the depths by a pilot,
+// estimates b (the sum over depths of each depth's mean) and starts the chains, the depth with
+// the sample (shared/pssmlt_types.h; the chains, passes and deposits are pssmlt's over bdpt,
 // host/methods/pssmlt: renderChainsOverBdpt).
 #pragma once
 
@@ -20,11 +21,13 @@ public:
     RenderOutput render(RenderSession& session) override;
 
     static constexpr uint32_t kDefaultSpp = 64;
-    // --bootstrap 0: 4096 samples of each depth, whatever the image's size
+    // --bootstrap 0: 16384 samples of each depth on average, whatever the image's size
     // (PssmltOptions::bootstrapPerDepth). With one per pixel, a small image's chains started at
     // a handful of non-zero samples of the depth that carries the light (tests/stat: BLEND card,
-    // 22 of 96 at depth 1), and renders of few passes varied too much for the z-tests; on a large
-    // one, one per pixel of each depth took 5.5 s of a 20 s render of room at 160x90 (16 bounces).
+    // 22 of 96 at depth 1), and renders of few passes varied too much for the z-tests. With 4096
+    // of each depth, evenly, room's (160x90, 16 bounces) 4096 chains started at about 1800
+    // distinct samples, up to 15 at one, and one render in three had a bright pixel that
+    // doubled its error (docs/methods/mmlt.md).
     static constexpr uint32_t kDefaultBootstrap = 0;
     uint32_t defaultSpp() const override { return kDefaultSpp; }
 

@@ -18,6 +18,10 @@ namespace pmcr {
 namespace {
 
 constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per submission (CPU)
+// mmlt: the pilot's samples of each depth, and the share of the bootstrap spread evenly over
+// the depths whatever the pilot found (so that a depth the pilot saw dark still has samples).
+constexpr uint32_t kBootstrapPilotPerDepth = 512;
+constexpr double kBootstrapFloorShare = 0.25;
 constexpr VkDeviceSize kMaxPrimaryBytes = 1ull << 30;   // primary-sample storage
 
 // What a render did, for its statistics.
@@ -328,10 +332,15 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                     " MiB (at most 1024); lower --chains or --max-depth");
     // One pass: about one mutation per pixel.
     const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
-    const uint64_t bootstrapSamples =
+    // mmlt: a pilot of kBootstrapPilotPerDepth samples of each depth, then the bootstrap's
+    // samples allocated to the depths by the pilot (allocateBootstrapByDepth).
+    const uint64_t mainSamples =
         multiplexed ? o.bootstrapPerDepth(pixels) * depths : uint64_t(o.bootstrapSpp) * pixels;
-    if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
-        throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
+    const uint64_t pilotSamples = multiplexed ? uint64_t(kBootstrapPilotPerDepth) * depths : 0;
+    if (mainSamples > std::numeric_limits<uint32_t>::max() ||
+        (multiplexed && kBootstrapPilotPerDepth + mainSamples > (uint64_t(1) << gpu::MMLT_DEPTH_SHIFT)))
+        throw Error(std::string("--bootstrap: more than ") + (multiplexed ? "2^25 bootstrap samples of one depth" : "2^32 bootstrap samples") +
+                    " possible; lower it");
 
     // Build the pipelines before the clock starts (compilation is not rendering).
     const vk::Kernel& subpathsKernel = session.kernel(lightsKernelVariant(
@@ -343,7 +352,8 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
 
     Film& film = session.film();
     SplatFilm splat(context, session.width(), session.height());
-    vk::Buffer weights(context, bootstrapSamples * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+    vk::Buffer weights(context, std::max<uint64_t>(1, std::max(pilotSamples, mainSamples)) * sizeof(float),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        "bootstrap weights", vk::MemoryUsage::Readback);
     vk::Buffer starts(context, VkDeviceSize(chains) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                       "chain starts");
@@ -394,41 +404,87 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     };
 
     // Bootstrap: F of uniform primary vectors, W_i = F(u_i) * pixels (Veach 1997 sec. 11.3.1),
-    // each a chain slot's start, `chains` samples a step and about kBootstrapChunk a submission
+    // in ranges of weights [first, first + count) of samples first + sampleOffset on, each
+    // sample a chain slot's start, `chains` samples a step and about kBootstrapChunk a submission
     // (a small image has few chains, and a submission per step took longer than its samples on
     // lavapipe: mmlt's default bootstrap at 20 x 20 is 99 steps of 400).
+    struct BootstrapRange {
+        uint32_t first, count, sampleOffset;
+    };
     const uint32_t stepsPerSubmission = std::max(1u, kBootstrapChunk / chains);
     const double bootstrapStart = session.elapsedSeconds();
     bool interrupted = false;
-    for (uint32_t first = 0; first < bootstrapSamples && !interrupted;) {
-        batches.begin();
-        batch.bind(work);
-        for (uint32_t k = 0; k < stepsPerSubmission && first < bootstrapSamples; ++k) {
-            push.first = first;
-            push.count = std::min<uint32_t>(chains, uint32_t(bootstrapSamples) - first);
-            push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
-            recordStep();
-            first += push.count;
+    // The weights of `ranges`, which cover [0, n); empty when interrupted.
+    auto bootstrap = [&](const std::vector<BootstrapRange>& ranges, uint64_t n) {
+        size_t r = 0;
+        uint32_t done = 0;  // of range r
+        while (r < ranges.size() && !interrupted) {
+            batches.begin();
+            batch.bind(work);
+            for (uint32_t k = 0; k < stepsPerSubmission && r < ranges.size(); ++k) {
+                push.first = ranges[r].first + done;
+                push.count = std::min(chains, ranges[r].count - done);
+                push.sampleOffset = ranges[r].sampleOffset;
+                push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
+                recordStep();
+                done += push.count;
+                if (done == ranges[r].count) ++r, done = 0;
+            }
+            batches.submit();
+            interrupted = session.interrupted();
         }
-        batches.submit();
-        interrupted = session.interrupted();
-    }
-    MetropolisStart start;
-    if (!interrupted) {
-        std::vector<float> w = weights.download<float>(bootstrapSamples);
+        std::vector<float> w;
+        if (!interrupted) w = weights.download<float>(n);
         for (float& x : w) x *= float(pixels);
-        start = chooseChainStarts(w, chains, settings.seed);
-        // mmlt: chains in order of depth (sample i has depth i mod (D + 1)), so that neighbouring
-        // invocations walk and connect paths of one length and a SIMD group waits for no longer
-        // walk; which slot a chain takes changes nothing of its law.
-        if (multiplexed)
-            std::stable_sort(start.samples.begin(), start.samples.end(),
-                             [&](uint32_t a, uint32_t b) { return a % depths < b % depths; });
+        return w;
+    };
+    MetropolisStart start;
+    std::vector<uint64_t> depthSamples;  // mmlt: the bootstrap's samples of each depth
+    if (!multiplexed) {
+        const std::vector<float> w = bootstrap({{0, uint32_t(mainSamples), 0}}, mainSamples);
+        if (!interrupted) start = chooseChainStarts(w, chains, settings.seed);
+    } else {
+        // Sample k of depth d is (d << MMLT_DEPTH_SHIFT) + k: the pilot's are k < P, the
+        // bootstrap's follow, so that they are apart (shared/pssmlt_types.h).
+        const uint32_t P = kBootstrapPilotPerDepth;
+        std::vector<BootstrapRange> ranges;
+        for (uint32_t d = 0; d < depths; ++d)
+            ranges.push_back({d * P, P, (d << gpu::MMLT_DEPTH_SHIFT) - d * P});
+        const std::vector<float> pilot = bootstrap(ranges, pilotSamples);
+        std::vector<double> means(depths, 0.0);
+        for (uint32_t d = 0; d < depths && !interrupted; ++d) {
+            for (uint32_t k = 0; k < P; ++k) {
+                const double x = pilot[size_t(d) * P + k];
+                if (std::isfinite(x) && x > 0.0) means[d] += x;
+            }
+            means[d] /= double(P);
+        }
+        depthSamples = allocateBootstrapByDepth(means, mainSamples, kBootstrapFloorShare);
+        std::vector<uint32_t> first(depths);
+        ranges.clear();
+        for (uint32_t d = 0, f = 0; d < depths; ++d) {
+            first[d] = f;
+            ranges.push_back({f, uint32_t(depthSamples[d]), (d << gpu::MMLT_DEPTH_SHIFT) + P - f});
+            f += uint32_t(depthSamples[d]);
+        }
+        const std::vector<float> w = interrupted ? std::vector<float>() : bootstrap(ranges, mainSamples);
+        push.sampleOffset = 0;
+        if (!interrupted) {
+            start = chooseChainStartsByStratum(w, depthSamples, chains, settings.seed);
+            // The weights' index to the sample's number; chains in order of depth, so that
+            // neighbouring invocations walk and connect paths of one length and a SIMD group
+            // waits for no longer walk (which slot a chain takes changes nothing of its law).
+            for (uint32_t& i : start.samples) {
+                const uint32_t d = uint32_t(std::upper_bound(first.begin(), first.end(), i) - first.begin()) - 1;
+                i = (d << gpu::MMLT_DEPTH_SHIFT) + P + (i - first[d]);
+            }
+            std::sort(start.samples.begin(), start.samples.end());
+        }
     }
     session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
-    // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator; the
-    // bootstrap has as many samples of each depth).
-    const double normalization = start.normalization * depths;
+    // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator),
+    // chooseChainStartsByStratum's b_hat.
+    const double normalization = start.normalization;
     // e_d: each pass's chains * steps deposits share b (the image's total luminance).
     const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
 
@@ -468,9 +524,14 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                               });
     }
     session.progress().finish();
-    return pssmltOutput(session, splat, batches,
-                        {multiplexed ? nullptr : "bdpt", bootstrapSamples, normalization, chains, stepsPerPass,
-                         together, dimensions, depositEnergy, mutations});
+    RenderOutput out = pssmltOutput(session, splat, batches,
+                                    {multiplexed ? nullptr : "bdpt", mainSamples, normalization, chains,
+                                     stepsPerPass, together, dimensions, depositEnergy, mutations});
+    if (multiplexed) {
+        out.methodStats["bootstrap_pilot_samples"] = pilotSamples;
+        out.methodStats["bootstrap_samples_per_depth"] = depthSamples;
+    }
+    return out;
 }
 
 MethodInfo pssmltMethod() {

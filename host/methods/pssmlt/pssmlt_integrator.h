@@ -49,9 +49,10 @@ struct PssmltOptions {
     // --bootstrap defaults to defaultBootstrap, and takes 0 (automatic) only where that is 0.
     static PssmltOptions fromSettings(const RenderSettings& settings, const char* method = "pssmlt",
                                       uint32_t defaultBootstrap = 4);
-    // mmlt's --bootstrap 0: kAutoBootstrapPerDepth samples of each depth, whatever the image's
-    // size (pbrt-v4 counts them per depth too); N > 0: N per pixel of each depth.
-    static constexpr uint32_t kAutoBootstrapPerDepth = 4096;
+    // mmlt's --bootstrap 0: kAutoBootstrapPerDepth samples of each depth on average, whatever
+    // the image's size (pbrt-v4 counts them per depth too); N > 0: N per pixel of each depth.
+    // They are allocated to the depths by a pilot (renderChainsOverBdpt).
+    static constexpr uint32_t kAutoBootstrapPerDepth = 16384;
     uint64_t bootstrapPerDepth(uint32_t pixels) const;
 };
 

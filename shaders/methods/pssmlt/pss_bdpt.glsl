@@ -30,10 +30,10 @@ uint mmltStrategies(uint depth) { return depth == 0u ? 1u : depth + 2u; }
 
 // The sampler of chain `chain` in state st, at its proposal (st.iteration; at 0 the start, which
 // reads the coordinates as they are), at dimension 0. While bootstrapping, chain is a slot and
-// the sampler reads bootstrap sample push.first + chain, which nothing stores.
+// the sampler reads bootstrap sample push.first + chain + push.sampleOffset, which nothing stores.
 Sampler pssBdptSampler(uint chain, PssmltBdptChain st) {
     Sampler s = pssSampler(push, chain, st.rng, st.iteration, st.lastLargeStep, st.largeStep != 0u);
-    if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u) s.bootstrapSample = push.first + chain;
+    if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u) s.bootstrapSample = push.first + chain + push.sampleOffset;
     return s;
 }
 

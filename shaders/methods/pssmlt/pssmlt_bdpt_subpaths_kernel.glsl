@@ -43,7 +43,7 @@ PssmltBdptChain startChain(uint chain, uint start) {
     st.currentCount = 0u;
     st.proposalCount = 0u;
     st.proposalPixel = 0u;
-    st.depth = start % (push.maxDepth + 1u);  // mmlt: bootstrap sample i has depth i mod (D + 1)
+    st.depth = start >> MMLT_DEPTH_SHIFT;  // mmlt (shared/pssmlt_types.h)
     st.strategy = 0u;
     st.cameraEnd = 0u;
     st.lightEnd = 0u;
@@ -57,7 +57,7 @@ void main() {
     if (i < push.count) {
         uint chain = pssBdptChain(i);
         PssmltBdptChain st;
-        if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u) st = startChain(chain, push.first + i);
+        if ((push.flags & PSSMLT_FLAG_BOOTSTRAP) != 0u) st = startChain(chain, push.first + i + push.sampleOffset);
         else if ((push.flags & PSSMLT_FLAG_START) != 0u) st = startChain(chain, chainStarts[chain]);
         else st = chains[chain];
         Sampler smp = pssBdptSampler(chain, st);
