@@ -5,9 +5,10 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
-#include <optional>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -21,10 +22,10 @@ namespace pmcr {
 
 namespace {
 
-constexpr uint32_t kDispatchesPerBatch = 8;      // at most
-constexpr uint32_t kDispatchCapacity = 16384;    // camera samples per dispatch at most
-constexpr uint32_t kBatchesInFlight = 6;          // about 1.5 s of work on lavapipe
-constexpr uint64_t kMaxStepDraws = 1u << 22;  // eye paths in a grown step at most
+constexpr uint32_t kDispatchesPerBatch = 8;    // at most
+constexpr uint32_t kDispatchCapacity = 16384;  // camera samples per dispatch at most
+constexpr uint32_t kBatchesInFlight = 6;       // about 1.5 s of work on lavapipe
+constexpr uint64_t kMaxStepDraws = 1u << 22;   // eye paths in a grown step at most
 
 // Traces a step's two request lists, the pool draws and the members' mutations, with up to
 // kBatchesInFlight batches in flight (issue 38): queued lists are cut into batches in queue
@@ -52,27 +53,34 @@ public:
             batch.batch = std::make_unique<vk::CommandBatch>(session.layout(), &session.timer());
         }
     }
-    // Queues `requests`, traced with the render seed `seed`, behind the lists queued before;
-    // `list`'s previous requests must be finished.
-    void queue(List list, const std::vector<gpu::SampleRequest>& requests, uint32_t seed) {
+    // Room for `requests` requests of `list` on the device; none of its batches in flight.
+    void reserve(List list, size_t requests) {
         Lane& lane = m_lanes[list];
-        if (requests.size() > lane.capacity) {
-            // No batch of this list is in flight: its buffers can be replaced.
+        if (requests > lane.capacity) {
             const char* name = list == kPool ? "pmc-pt pool " : "pmc-pt members ";
-            lane.capacity = requests.size();
-            lane.requests = vk::Buffer(m_session.context(), lane.capacity * sizeof(gpu::SampleRequest),
-                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, std::string(name) + "requests",
-                                       vk::MemoryUsage::Upload);
+            lane.capacity = requests;
+            lane.requests =
+                vk::Buffer(m_session.context(), lane.capacity * sizeof(gpu::SampleRequest),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, std::string(name) + "requests",
+                           vk::MemoryUsage::Upload);
             lane.results = vk::Buffer(m_session.context(), lane.capacity * sizeof(glm::vec4),
-                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, std::string(name) + "results",
-                                      vk::MemoryUsage::Readback);
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                      std::string(name) + "results", vk::MemoryUsage::Readback);
             for (Batch& batch : m_batches) {
                 batch.sets[list]->bind(gpu::PT_BINDING_REQUESTS, lane.requests);
                 batch.sets[list]->bind(gpu::PT_BINDING_RESULTS, lane.results);
             }
         }
-        if (!requests.empty()) lane.requests.upload(requests);
-        lane.size = requests.size();
+    }
+
+    // Queues `requests` (taken; `requests` gets an old list back to reuse), traced with the
+    // render seed `seed`, behind the lists queued before; `list`'s previous requests must be
+    // finished. Each batch's requests are uploaded when it is recorded.
+    void queue(List list, std::vector<gpu::SampleRequest>& requests, uint32_t seed) {
+        reserve(list, requests.size());
+        Lane& lane = m_lanes[list];
+        lane.list.swap(requests);
+        lane.size = lane.list.size();
         lane.submitted = lane.completed = 0;
         lane.seed = seed;
         m_order.push_back(list);
@@ -81,11 +89,24 @@ public:
 
     // Waits until `list`'s queued requests are traced and reads their results; false when the
     // render was interrupted first (then every queued list is dropped and nothing is in flight).
-    bool finish(List list, std::vector<glm::vec4>& results) {
+    // Once all of the list is submitted it can no longer be dropped: from then on its results are
+    // read as they come in, and `resultsIn(n)` (if given) is told that the first n are there, so
+    // the host can reduce them while the device traces the rest.
+    bool finish(List list, std::vector<glm::vec4>& results,
+                const std::function<void(size_t)>& resultsIn = nullptr) {
+        if (m_dropped) return false;
         Lane& lane = m_lanes[list];
+        results.resize(lane.size);
+        size_t read = 0;
         for (;;) {
             submitBatches();
-            if (lane.completed == lane.size) break;
+            if (lane.submitted == lane.size && lane.completed > read) {
+                lane.results.download(&results[read], (lane.completed - read) * sizeof(glm::vec4),
+                                      read * sizeof(glm::vec4));
+                read = lane.completed;
+                if (resultsIn) resultsIn(read);
+            }
+            if (lane.completed == lane.size) return true;
             if (m_inFlight == 0) {  // interrupted: nothing more is submitted
                 m_order.clear();
                 for (Lane& l : m_lanes) l.size = l.submitted = l.completed = 0;
@@ -94,14 +115,16 @@ public:
             }
             retireOldest();
         }
-        if (m_dropped) return false;
-        results.resize(lane.size);
-        if (lane.size > 0) lane.results.download(results.data(), lane.size * sizeof(glm::vec4));
-        return true;
+    }
+
+    // The device's seconds per eye path over the batches completed so far (0 before the first).
+    double secondsPerEyePath() const {
+        return m_eyePaths > 0 ? m_deviceSeconds / double(m_eyePaths) : 0.0;
     }
 
 private:
     struct Lane {
+        std::vector<gpu::SampleRequest> list;  // on the host
         vk::Buffer requests, results;
         size_t capacity = 0, size = 0, submitted = 0, completed = 0;
         uint32_t seed = 0;
@@ -116,12 +139,14 @@ private:
         std::chrono::steady_clock::time_point submitted;
     };
 
-    // Submits batches of the queued lists while a batch is free; none once interrupted.
+    // Submits batches of the queued lists while a batch is free (one at first, until the sizer
+    // has learned from it); none once interrupted.
     void submitBatches() {
         const uint32_t perBatch = uint32_t(std::clamp(
             m_session.targetBatchSeconds() / m_session.targetDispatchSeconds(), 1.0,
             double(kDispatchesPerBatch)));
-        while (m_inFlight < kBatchesInFlight && !m_order.empty() && !m_session.interrupted()) {
+        const uint32_t limit = m_retired > 0 ? kBatchesInFlight : 1;
+        while (m_inFlight < limit && !m_order.empty() && !m_session.interrupted()) {
             const List list = m_order.front();
             Lane& lane = m_lanes[list];
             Batch& b = m_batches[(m_oldest + m_inFlight) % kBatchesInFlight];
@@ -131,10 +156,14 @@ private:
             batch.bind(*b.sets[list]);
             m_push.seed = lane.seed;
             const size_t first = lane.submitted;
+            const size_t end =
+                std::min<size_t>(lane.size, first + size_t(perBatch) * m_sizer.units());
+            lane.requests.upload(&lane.list[first], (end - first) * sizeof(gpu::SampleRequest),
+                                 first * sizeof(gpu::SampleRequest));
             uint32_t d = 0;
-            for (; d < perBatch && lane.submitted < lane.size; ++d) {
+            for (; d < perBatch && lane.submitted < end; ++d) {
                 const uint32_t count =
-                    uint32_t(std::min<size_t>(m_sizer.units(), lane.size - lane.submitted));
+                    uint32_t(std::min<size_t>(m_sizer.units(), end - lane.submitted));
                 m_push.requestOffset = uint32_t(lane.submitted);
                 m_push.invocationCount = count;
                 // pt.comp takes several requests per invocation in turn on a CPU device.
@@ -158,10 +187,13 @@ private:
         Batch& b = m_batches[m_oldest];
         const double seconds = m_timer.wait(*b.batch, b.submitted);
         m_sizer.record(b.samples / b.dispatches, seconds / double(b.dispatches));
+        m_deviceSeconds += seconds;
+        m_eyePaths += b.samples;
         Film::addCounters(b.counters, m_session.counters());
         m_lanes[b.list].completed += b.samples;
         m_oldest = (m_oldest + 1) % kBatchesInFlight;
         --m_inFlight;
+        ++m_retired;
     }
 
     RenderSession& m_session;
@@ -173,6 +205,9 @@ private:
     std::deque<List> m_order;  // lists with requests not yet submitted, in queue order
     std::array<Batch, kBatchesInFlight> m_batches;
     uint32_t m_oldest = 0, m_inFlight = 0;
+    uint64_t m_retired = 0;
+    double m_deviceSeconds = 0.0;  // of the batches completed
+    uint64_t m_eyePaths = 0;
     bool m_dropped = false;
 };
 
@@ -296,6 +331,9 @@ RenderOutput PmcPt::render(RenderSession& session) {
     push.rrDepth = settings.rrDepth;
     push.lightSamples = 1;
     StepTracer tracer(session, kernel, push);
+    // The first step's (one unit; later ones grow them while none of their list is in flight).
+    tracer.reserve(StepTracer::kPool, poolDraws);
+    tracer.reserve(StepTracer::kMembers, mutationDraws);
 
     Pcg32 rng(settings.seed, 0x504d432d5054ULL);  // "PMC-PT"
     // Each step's render seed, which scrambles every pixel's sequence afresh. (One generator,
@@ -336,10 +374,12 @@ RenderOutput PmcPt::render(RenderSession& session) {
     };
 
     // A step's host lists: the pool's requests and results (pixel p's stepPoolSpp draws at
-    // stepPoolSpp times p's place in the Morton order), the members' (the draws that landed in
-    // p from memberFirst[p] on, in draw order) and which draw each member request is.
+    // stepPoolSpp times p's place in the Morton order), the members' (pixels in order, the draws
+    // that landed in p from memberFirst[p] on, in draw order) and which draw each member
+    // request is.
     std::vector<PositionDraw> draws;
     std::vector<gpu::SampleRequest> requests;
+    requests.resize(std::max(poolDraws, mutationDraws));  // the first step's, before the clock
     std::vector<glm::vec4> poolResults, memberResults;
     std::vector<uint32_t> memberCount(pixels), memberFirst(pixels), next(pixels), drawOf;
     double hostSeconds = 0.0;  // population, requests and reduction: the method's own overhead
@@ -349,19 +389,20 @@ RenderOutput PmcPt::render(RenderSession& session) {
     const std::vector<uint32_t> mortonPixels = mortonPixelOrder(width, height);
     std::vector<uint32_t> mortonRank(pixels);  // each pixel's place in mortonPixels
     for (uint32_t i = 0; i < pixels; ++i) mortonRank[mortonPixels[i]] = i;
-    // The share of a unit's eye paths that are pool draws.
-    const double poolShare = double(poolDraws) / double(drawsPerStep);
     // The size in units of step `step`, decided while the step before it (`running` units, 0:
     // none) traces its members: the schedule's, at most what is left of --spp, and with --time
-    // at most the units expected to end nearest the limit, from the time per unit so far. The
-    // clock so far covers the finished steps and the running step's pool draws; its members
-    // are still to come. 0 when the render is done.
+    // at most the units expected to end nearest the limit, from the device's time per eye path
+    // so far. The device works through its queue without pause, so the running step ends when
+    // every eye path so far is traced (and not before now). (The clock when the running step's
+    // pool is in says little: lavapipe may signal a batch's completion late, with the next
+    // ones.) 0 when the render is done.
     auto nextStepUnits = [&](uint64_t step, uint64_t running) -> uint64_t {
         uint64_t m = std::min(scheduled(step), unitLimit - units - running);
-        if (settings.timeLimit > 0.0 && units + running > 0) {
-            const double elapsed = session.elapsedSeconds();
-            const double perUnit = elapsed / (double(units) + double(running) * poolShare);
-            const double fit = (settings.timeLimit - elapsed) / perUnit - double(running) * (1.0 - poolShare);
+        const double perUnit = tracer.secondsPerEyePath() * double(drawsPerStep);
+        if (settings.timeLimit > 0.0 && perUnit > 0.0) {
+            const double runningEnds =
+                std::max(session.elapsedSeconds(), double(units + running) * perUnit);
+            const double fit = (settings.timeLimit - runningEnds) / perUnit;
             m = std::min<uint64_t>(m, uint64_t(std::max(0.0, std::floor(fit + 0.5))));
         }
         return m;
@@ -369,14 +410,16 @@ RenderOutput PmcPt::render(RenderSession& session) {
     Communicator& comm = session.comm();
     // Step `step`'s size, agreed by the ranks; none when the render stops.
     auto agreeStepUnits = [&](uint64_t step, uint64_t running) -> std::optional<uint64_t> {
-        const uint64_t m = units + running < unitLimit && !session.interrupted() ? nextStepUnits(step, running) : 0;
+        const bool more = units + running < unitLimit && !session.interrupted();
+        const uint64_t m = more ? nextStepUnits(step, running) : 0;
         if (comm.distributed()) {
             // The ranks step together, since their importance statistics are pooled at every
             // adaptation: rank 0's step size (it has the largest share of --spp, and its clock
             // rules under --time), cut to what is left of each rank's own share (a rank whose
             // share is spent joins with an empty step); all stop when rank 0 is done or any
             // rank is interrupted.
-            std::vector<double> agreed{comm.rank() == 0 ? double(m) : 0.0, session.interrupted() ? 1.0 : 0.0};
+            std::vector<double> agreed{comm.rank() == 0 ? double(m) : 0.0,
+                                       session.interrupted() ? 1.0 : 0.0};
             comm.allReduceSum(agreed);
             if (agreed[0] == 0.0 || agreed[1] > 0.0) return std::nullopt;
             return std::min<uint64_t>(uint64_t(agreed[0]), unitLimit - units - running);
@@ -413,6 +456,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
         const uint32_t seed = nextSeed;
         const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
         uint64_t total = 0;
+        uint32_t members = 0;
         bool traced = true;
         if (stepUnits > 0) {
             // The members' draws: every member's m TR mutations (pixels). How many land in each
@@ -424,8 +468,7 @@ RenderOutput PmcPt::render(RenderSession& session) {
             population.drawMutations(rng, draws, ps.mutations * uint32_t(stepUnits));
             std::fill(memberCount.begin(), memberCount.end(), 0u);
             for (const PositionDraw& d : draws) ++memberCount[d.pixel];
-            uint32_t members = 0;
-            for (uint32_t p : mortonPixels) {
+            for (uint32_t p = 0; p < pixels; ++p) {
                 memberFirst[p] = members;
                 members += memberCount[p];
             }
@@ -448,22 +491,18 @@ RenderOutput PmcPt::render(RenderSession& session) {
         // The next step's size and pool draws, while the device traces this step's members.
         nextUnits = agreeStepUnits(steps + 1, traced ? stepUnits : 0);
         if (nextUnits && *nextUnits > 0) nextSeed = queuePool(*nextUnits);
-        if (stepUnits > 0 && traced) {
-            traced = tracer.finish(StepTracer::kMembers, memberResults);
-            if (!traced && !comm.distributed()) break;
-        }
-        auto hostStart = std::chrono::steady_clock::now();
-        if (!traced) {
-            stepUnits = 0;  // no weight and no samples
-            total = 0;
-        }
 
-        // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
-        // in p (see the header), the plain sums, the tagged luminances and the strategy counts.
-        // The pool's samples first, then the members' in draw order: the same sums, bit for bit,
-        // however the samples were batched.
-        if (stepUnits > 0) {
-            for (uint32_t p = 0; p < pixels; ++p) {
+        // Reduce pixel by pixel, in order: the step's estimate I_t(p), the average of the step's
+        // samples in p (see the header), the plain sums, the tagged luminances and the strategy
+        // counts. The pool's samples first, then the members' in draw order: the same sums, bit
+        // for bit, however the samples were batched. Pixel p is reduced as soon as its members'
+        // results are in (they are in pixel order), while the device traces the later pixels'.
+        uint32_t reduced = 0;  // pixels
+        auto reduceUpTo = [&](size_t memberResultsIn) {
+            const auto hostStart = std::chrono::steady_clock::now();
+            for (; reduced < pixels; ++reduced) {
+                const uint32_t p = reduced;
+                if (memberFirst[p] + memberCount[p] > memberResultsIn) break;
                 glm::dvec3 sum(0.0);
                 const glm::vec4* pooled = &poolResults[size_t(mortonRank[p]) * stepPoolSpp];
                 for (uint32_t i = 0; i < stepPoolSpp; ++i) {
@@ -481,36 +520,50 @@ RenderOutput PmcPt::render(RenderSession& session) {
                 stepSum[p] += double(stepUnits) * sum / double(stepPoolSpp + memberCount[p]);
                 plainSum[p] += sum;
             }
+            hostSeconds += since(hostStart);
+        };
+        if (stepUnits > 0 && traced) {
+            traced = tracer.finish(StepTracer::kMembers, memberResults, reduceUpTo);
+            if (!traced && !comm.distributed()) break;
+            if (traced) reduceUpTo(members);
+        }
+        if (!traced) {
+            stepUnits = 0;  // no weight and no samples
+            total = 0;
         }
         samples += total;
-        // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
-        const std::vector<glm::dvec2> poolPositions =
-            pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
+        const auto hostStart = std::chrono::steady_clock::now();
         ++steps;
         units += stepUnits;
         population.endStep();
+        // The population adapts and resamples for the next step; after the last there is none.
+        if (nextUnits) {
+            // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
+            const std::vector<glm::dvec2> poolPositions =
+                pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
 
-        // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
-        if (steps == 1 || steps % o.adaptEvery == 0) {
-            population.adapt();
-            std::vector<double> luminance(pixels);
-            for (uint32_t p = 0; p < pixels; ++p) {
-                const glm::dvec3 v = estimate(p);
-                luminance[p] = 0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z;
+            // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
+            if (steps == 1 || steps % o.adaptEvery == 0) {
+                population.adapt();
+                std::vector<double> luminance(pixels);
+                for (uint32_t p = 0; p < pixels; ++p) {
+                    const glm::dvec3 v = estimate(p);
+                    luminance[p] = 0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z;
+                }
+                if (comm.distributed()) {
+                    std::vector<RunningStats> pooled = pixelLuminance;
+                    poolImportanceStatistics(comm, pooled, luminance);
+                    importance.update(pooled, luminance);
+                } else {
+                    importance.update(pixelLuminance, luminance);
+                }
+                ++adaptations;
             }
-            if (comm.distributed()) {
-                std::vector<RunningStats> pooled = pixelLuminance;
-                poolImportanceStatistics(comm, pooled, luminance);
-                importance.update(pooled, luminance);
-            } else {
-                importance.update(pixelLuminance, luminance);
-            }
-            ++adaptations;
+            const ResampleCounts c = population.resample(rng, poolPositions, importance);
+            resampled.eliminated += c.eliminated;
+            resampled.fromPool += c.fromPool;
+            resampled.fromImportance += c.fromImportance;
         }
-        const ResampleCounts c = population.resample(rng, poolPositions, importance);
-        resampled.eliminated += c.eliminated;
-        resampled.fromPool += c.fromPool;
-        resampled.fromImportance += c.fromImportance;
         hostSeconds += since(hostStart);
 
         const double sppDone = double(samples) / double(pixels);
