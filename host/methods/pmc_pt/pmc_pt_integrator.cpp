@@ -1,10 +1,14 @@
 #include "methods/pmc_pt/pmc_pt_integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
@@ -18,9 +22,194 @@ namespace pmcr {
 
 namespace {
 
-constexpr uint32_t kSlots = 8;              // dispatches per batch, each with its own buffers
-constexpr uint32_t kSlotCapacity = 16384;   // camera samples per dispatch at most
-constexpr uint64_t kMaxStepDraws = 1u << 22;  // eye paths in a grown step at most
+constexpr uint32_t kDispatchesPerBatch = 8;    // at most
+constexpr uint32_t kDispatchCapacity = 16384;  // camera samples per dispatch at most
+constexpr uint32_t kBatchesInFlight = 6;       // about 1.5 s of work on lavapipe
+constexpr uint64_t kMaxStepDraws = 1u << 22;   // eye paths in a grown step at most
+
+// Traces a step's two request lists, the pool draws and the members' mutations, with up to
+// kBatchesInFlight batches in flight (issue 38): queued lists are cut into batches in queue
+// order, and the batches in flight keep the device busy while the host reduces a step,
+// resamples the population and writes the next step's requests. Each list has its own requests
+// and results on the device, so one can be traced while the other is written; each batch its
+// own counters.
+class StepTracer {
+public:
+    enum List { kPool = 0, kMembers = 1 };
+
+    StepTracer(RenderSession& session, const vk::Kernel& kernel, const gpu::PtPush& push)
+        : m_session(session), m_kernel(kernel), m_push(push),
+          m_sizer(2048, kDispatchCapacity, session.targetDispatchSeconds()) {
+        for (uint32_t b = 0; b < kBatchesInFlight; ++b) {
+            Batch& batch = m_batches[b];
+            const std::string tag = std::to_string(b);
+            batch.counters = Film::makeCounters(session.context(), "pmc-pt counters " + tag);
+            for (List list : {kPool, kMembers}) {
+                batch.sets[list] = std::make_unique<vk::DescriptorSet>(
+                    session.layout(), vk::DescriptorSet::Kind::Work, "pmc-pt work " + tag);
+                batch.sets[list]->bind(gpu::PT_BINDING_FILM, session.film().pixels());
+                batch.sets[list]->bind(gpu::PT_BINDING_COUNTERS, batch.counters);
+            }
+            batch.batch = std::make_unique<vk::CommandBatch>(session.layout(), &session.timer());
+        }
+    }
+    // Room for `requests` requests of `list` on the device; none of its batches in flight.
+    void reserve(List list, size_t requests) {
+        Lane& lane = m_lanes[list];
+        if (requests > lane.capacity) {
+            const char* name = list == kPool ? "pmc-pt pool " : "pmc-pt members ";
+            lane.capacity = requests;
+            lane.requests =
+                vk::Buffer(m_session.context(), lane.capacity * sizeof(gpu::SampleRequest),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, std::string(name) + "requests",
+                           vk::MemoryUsage::Upload);
+            lane.results = vk::Buffer(m_session.context(), lane.capacity * sizeof(glm::vec4),
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                      std::string(name) + "results", vk::MemoryUsage::Readback);
+            for (Batch& batch : m_batches) {
+                batch.sets[list]->bind(gpu::PT_BINDING_REQUESTS, lane.requests);
+                batch.sets[list]->bind(gpu::PT_BINDING_RESULTS, lane.results);
+            }
+        }
+    }
+
+    // Queues `requests` (taken; `requests` gets an old list back to reuse), traced with the
+    // render seed `seed`, behind the lists queued before; `list`'s previous requests must be
+    // finished. Each batch's requests are uploaded when it is recorded.
+    void queue(List list, std::vector<gpu::SampleRequest>& requests, uint32_t seed) {
+        reserve(list, requests.size());
+        Lane& lane = m_lanes[list];
+        lane.list.swap(requests);
+        lane.size = lane.list.size();
+        lane.submitted = lane.completed = 0;
+        lane.seed = seed;
+        m_order.push_back(list);
+        submitBatches();
+    }
+
+    // Waits until `list`'s queued requests are traced and reads their results; false when the
+    // render was interrupted first (then every queued list is dropped and nothing is in flight).
+    // Once all of the list is submitted it can no longer be dropped: from then on its results are
+    // read as they come in, and `resultsIn(n)` (if given) is told that the first n are there, so
+    // the host can reduce them while the device traces the rest.
+    bool finish(List list, std::vector<glm::vec4>& results,
+                const std::function<void(size_t)>& resultsIn = nullptr) {
+        if (m_dropped) return false;
+        Lane& lane = m_lanes[list];
+        results.resize(lane.size);
+        size_t read = 0;
+        for (;;) {
+            submitBatches();
+            if (lane.submitted == lane.size && lane.completed > read) {
+                lane.results.download(&results[read], (lane.completed - read) * sizeof(glm::vec4),
+                                      read * sizeof(glm::vec4));
+                read = lane.completed;
+                if (resultsIn) resultsIn(read);
+            }
+            if (lane.completed == lane.size) return true;
+            if (m_inFlight == 0) {  // interrupted: nothing more is submitted
+                m_order.clear();
+                for (Lane& l : m_lanes) l.size = l.submitted = l.completed = 0;
+                m_dropped = true;
+                return false;
+            }
+            retireOldest();
+        }
+    }
+
+    // The device's seconds per eye path over the batches completed so far (0 before the first).
+    double secondsPerEyePath() const {
+        return m_eyePaths > 0 ? m_deviceSeconds / double(m_eyePaths) : 0.0;
+    }
+
+private:
+    struct Lane {
+        std::vector<gpu::SampleRequest> list;  // on the host
+        vk::Buffer requests, results;
+        size_t capacity = 0, size = 0, submitted = 0, completed = 0;
+        uint32_t seed = 0;
+    };
+    struct Batch {
+        vk::Buffer counters;
+        std::array<std::unique_ptr<vk::DescriptorSet>, 2> sets;  // per list
+        std::unique_ptr<vk::CommandBatch> batch;  // destroyed first: waits for its submission
+        List list = kPool;
+        uint64_t samples = 0;
+        uint32_t dispatches = 0;
+        std::chrono::steady_clock::time_point submitted;
+    };
+
+    // Submits batches of the queued lists while a batch is free (one at first, until the sizer
+    // has learned from it); none once interrupted.
+    void submitBatches() {
+        const uint32_t perBatch = uint32_t(std::clamp(
+            m_session.targetBatchSeconds() / m_session.targetDispatchSeconds(), 1.0,
+            double(kDispatchesPerBatch)));
+        const uint32_t limit = m_retired > 0 ? kBatchesInFlight : 1;
+        while (m_inFlight < limit && !m_order.empty() && !m_session.interrupted()) {
+            const List list = m_order.front();
+            Lane& lane = m_lanes[list];
+            Batch& b = m_batches[(m_oldest + m_inFlight) % kBatchesInFlight];
+            vk::CommandBatch& batch = *b.batch;
+            batch.fill(b.counters, 0);
+            batch.bind(m_session.scene().descriptorSet());
+            batch.bind(*b.sets[list]);
+            m_push.seed = lane.seed;
+            const size_t first = lane.submitted;
+            const size_t end =
+                std::min<size_t>(lane.size, first + size_t(perBatch) * m_sizer.units());
+            lane.requests.upload(&lane.list[first], (end - first) * sizeof(gpu::SampleRequest),
+                                 first * sizeof(gpu::SampleRequest));
+            uint32_t d = 0;
+            for (; d < perBatch && lane.submitted < end; ++d) {
+                const uint32_t count =
+                    uint32_t(std::min<size_t>(m_sizer.units(), end - lane.submitted));
+                m_push.requestOffset = uint32_t(lane.submitted);
+                m_push.invocationCount = count;
+                // pt.comp takes several requests per invocation in turn on a CPU device.
+                m_push.itemsPerInvocation = ptItemsPerInvocation(m_session.context(), count);
+                batch.dispatch(m_kernel, m_push,
+                               (count + m_push.itemsPerInvocation - 1) / m_push.itemsPerInvocation);
+                lane.submitted += count;
+            }
+            b.list = list;
+            b.samples = lane.submitted - first;
+            b.dispatches = d;
+            b.submitted = std::chrono::steady_clock::now();
+            batch.submit();
+            ++m_inFlight;
+            if (lane.submitted == lane.size) m_order.pop_front();
+        }
+    }
+
+    // Waits for the oldest batch; the sizer learns from its time on the device.
+    void retireOldest() {
+        Batch& b = m_batches[m_oldest];
+        const double seconds = m_timer.wait(*b.batch, b.submitted);
+        m_sizer.record(b.samples / b.dispatches, seconds / double(b.dispatches));
+        m_deviceSeconds += seconds;
+        m_eyePaths += b.samples;
+        Film::addCounters(b.counters, m_session.counters());
+        m_lanes[b.list].completed += b.samples;
+        m_oldest = (m_oldest + 1) % kBatchesInFlight;
+        --m_inFlight;
+        ++m_retired;
+    }
+
+    RenderSession& m_session;
+    const vk::Kernel& m_kernel;
+    gpu::PtPush m_push;
+    DispatchSizer m_sizer;
+    InFlightTimer m_timer;
+    std::array<Lane, 2> m_lanes;
+    std::deque<List> m_order;  // lists with requests not yet submitted, in queue order
+    std::array<Batch, kBatchesInFlight> m_batches;
+    uint32_t m_oldest = 0, m_inFlight = 0;
+    uint64_t m_retired = 0;
+    double m_deviceSeconds = 0.0;  // of the batches completed
+    uint64_t m_eyePaths = 0;
+    bool m_dropped = false;
+};
 
 // With several ranks (core/communicator.h): every rank's luminance statistics summed, and the
 // mean of their pixel estimates, so that they all resample by the same importance beta'.
@@ -134,27 +323,6 @@ RenderOutput PmcPt::render(RenderSession& session) {
     // Pipelines and buffers before the clock starts.
     const vk::Kernel& kernel =
         session.kernel(pathTracingKernel(session.scene(), "pt"), m_baseline.kernelOptions());
-    Film& film = session.film();
-    struct Slot {
-        vk::Buffer requests;
-        vk::Buffer results;
-        std::unique_ptr<vk::DescriptorSet> set;
-    };
-    std::vector<Slot> slots(kSlots);
-    for (uint32_t i = 0; i < kSlots; ++i) {
-        Slot& s = slots[i];
-        s.requests = vk::Buffer(session.context(), kSlotCapacity * sizeof(gpu::SampleRequest),
-                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-pt requests");
-        s.results = vk::Buffer(session.context(), kSlotCapacity * sizeof(glm::vec4),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-pt results",
-                               vk::MemoryUsage::Readback);
-        s.set = std::make_unique<vk::DescriptorSet>(session.layout(), vk::DescriptorSet::Kind::Work,
-                                                    "pmc-pt work");
-        s.set->bind(gpu::PT_BINDING_FILM, film.pixels());
-        s.set->bind(gpu::PT_BINDING_COUNTERS, film.counters());
-        s.set->bind(gpu::PT_BINDING_REQUESTS, s.requests);
-        s.set->bind(gpu::PT_BINDING_RESULTS, s.results);
-    }
     gpu::PtPush push{};
     push.source = gpu::PT_SOURCE_LIST;
     push.flags = gpu::PT_FLAG_WRITE_RESULTS;
@@ -162,54 +330,10 @@ RenderOutput PmcPt::render(RenderSession& session) {
     push.maxDepth = settings.maxDepth;
     push.rrDepth = settings.rrDepth;
     push.lightSamples = 1;
-    vk::CommandBatch batch(session.layout(), &session.timer());
-    DispatchSizer sizer(2048, kSlotCapacity, session.targetDispatchSeconds());
-
-    // Path traces `requests` into `results` in dispatches of the sizer's size, a few per batch;
-    // false when interrupted first. The time limit does not stop a step midway (an unfinished
-    // step is dropped whole, so its time would be spent for nothing): the loop below decides
-    // before each step whether it is to run.
-    auto trace = [&](const std::vector<gpu::SampleRequest>& requests,
-                     std::vector<glm::vec4>& results) {
-        results.resize(requests.size());
-        const uint32_t perBatch = uint32_t(std::clamp(
-            session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, double(kSlots)));
-        size_t done = 0;
-        while (done < requests.size()) {
-            if (session.interrupted()) return false;
-            batch.fill(film.counters(), 0);
-            batch.bind(session.scene().descriptorSet());
-            struct Pending {
-                size_t first;
-                uint32_t count;
-            };
-            std::vector<Pending> pending;
-            uint64_t batchSamples = 0;
-            for (uint32_t d = 0; d < perBatch && done < requests.size(); ++d) {
-                const uint32_t count =
-                    uint32_t(std::min<size_t>(sizer.units(), requests.size() - done));
-                slots[d].requests.upload(&requests[done], count * sizeof(gpu::SampleRequest));
-                batch.bind(*slots[d].set);
-                push.invocationCount = count;
-                // pt.comp takes several requests per invocation in turn on a CPU device.
-                push.itemsPerInvocation = ptItemsPerInvocation(session.context(), count);
-                batch.dispatch(kernel, push, (count + push.itemsPerInvocation - 1) / push.itemsPerInvocation);
-                pending.push_back({done, count});
-                done += count;
-                batchSamples += count;
-            }
-            const auto t0 = std::chrono::steady_clock::now();
-            batch.submitAndWait();
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            for (size_t d = 0; d < pending.size(); ++d)
-                slots[d].results.download(&results[pending[d].first],
-                                          pending[d].count * sizeof(glm::vec4));
-            sizer.record(batchSamples / pending.size(), seconds / double(pending.size()));
-            film.addCounters(session.counters());
-        }
-        return true;
-    };
+    StepTracer tracer(session, kernel, push);
+    // The first step's (one unit; later ones grow them while none of their list is in flight).
+    tracer.reserve(StepTracer::kPool, poolDraws);
+    tracer.reserve(StepTracer::kMembers, mutationDraws);
 
     Pcg32 rng(settings.seed, 0x504d432d5054ULL);  // "PMC-PT"
     // Each step's render seed, which scrambles every pixel's sequence afresh. (One generator,
@@ -249,131 +373,197 @@ RenderOutput PmcPt::render(RenderSession& session) {
         return image;
     };
 
+    // A step's host lists: the pool's requests and results (pixel p's stepPoolSpp draws at
+    // stepPoolSpp times p's place in the Morton order), the members' (pixels in order, the draws
+    // that landed in p from memberFirst[p] on, in draw order) and which draw each member
+    // request is.
     std::vector<PositionDraw> draws;
     std::vector<gpu::SampleRequest> requests;
-    std::vector<glm::vec4> results;
-    std::vector<uint32_t> count(pixels), first(pixels), next(pixels), drawOf;
+    requests.resize(std::max(poolDraws, mutationDraws));  // the first step's, before the clock
+    std::vector<glm::vec4> poolResults, memberResults;
+    std::vector<uint32_t> memberCount(pixels), memberFirst(pixels), next(pixels), drawOf;
     double hostSeconds = 0.0;  // population, requests and reduction: the method's own overhead
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
     const std::vector<uint32_t> mortonPixels = mortonPixelOrder(width, height);
-    // The next step's size in units: the schedule's, at most what is left of --spp, and with
-    // --time at most the units expected (from the time per unit so far) to end nearest the
-    // limit; 0 when the render is done.
-    auto nextStepUnits = [&]() -> uint64_t {
-        uint64_t m = std::min(scheduled(steps), unitLimit - units);
-        if (settings.timeLimit > 0.0 && units > 0) {
-            const double elapsed = session.elapsedSeconds();
-            const double fit = (settings.timeLimit - elapsed) / (elapsed / double(units));
+    std::vector<uint32_t> mortonRank(pixels);  // each pixel's place in mortonPixels
+    for (uint32_t i = 0; i < pixels; ++i) mortonRank[mortonPixels[i]] = i;
+    // The size in units of step `step`, decided while the step before it (`running` units, 0:
+    // none) traces its members: the schedule's, at most what is left of --spp, and with --time
+    // at most the units expected to end nearest the limit, from the device's time per eye path
+    // so far. The device works through its queue without pause, so the running step ends when
+    // every eye path so far is traced (and not before now). (The clock when the running step's
+    // pool is in says little: lavapipe may signal a batch's completion late, with the next
+    // ones.) 0 when the render is done.
+    auto nextStepUnits = [&](uint64_t step, uint64_t running) -> uint64_t {
+        uint64_t m = std::min(scheduled(step), unitLimit - units - running);
+        const double perUnit = tracer.secondsPerEyePath() * double(drawsPerStep);
+        if (settings.timeLimit > 0.0 && perUnit > 0.0) {
+            const double runningEnds =
+                std::max(session.elapsedSeconds(), double(units + running) * perUnit);
+            const double fit = (settings.timeLimit - runningEnds) / perUnit;
             m = std::min<uint64_t>(m, uint64_t(std::max(0.0, std::floor(fit + 0.5))));
         }
         return m;
     };
-    session.startClock();
     Communicator& comm = session.comm();
-    for (;;) {
-        uint64_t stepUnits = units < unitLimit && !session.interrupted() ? nextStepUnits() : 0;
+    // Step `step`'s size, agreed by the ranks; none when the render stops.
+    auto agreeStepUnits = [&](uint64_t step, uint64_t running) -> std::optional<uint64_t> {
+        const bool more = units + running < unitLimit && !session.interrupted();
+        const uint64_t m = more ? nextStepUnits(step, running) : 0;
         if (comm.distributed()) {
             // The ranks step together, since their importance statistics are pooled at every
             // adaptation: rank 0's step size (it has the largest share of --spp, and its clock
             // rules under --time), cut to what is left of each rank's own share (a rank whose
             // share is spent joins with an empty step); all stop when rank 0 is done or any
             // rank is interrupted.
-            std::vector<double> agreed{comm.rank() == 0 ? double(stepUnits) : 0.0,
+            std::vector<double> agreed{comm.rank() == 0 ? double(m) : 0.0,
                                        session.interrupted() ? 1.0 : 0.0};
             comm.allReduceSum(agreed);
-            if (agreed[0] == 0.0 || agreed[1] > 0.0) break;
-            stepUnits = std::min<uint64_t>(uint64_t(agreed[0]), unitLimit - units);
-        } else if (stepUnits == 0) {
-            break;
+            if (agreed[0] == 0.0 || agreed[1] > 0.0) return std::nullopt;
+            return std::min<uint64_t>(uint64_t(agreed[0]), unitLimit - units - running);
         }
+        if (m == 0) return std::nullopt;
+        return m;
+    };
+    // Queues step-to-be's pool draws: points 0 .. stepPoolSpp - 1 of every pixel's sequence,
+    // scrambled afresh with the step's own seed, pixels in Morton order (coherent rays).
+    auto queuePool = [&](uint64_t stepUnits) {
+        const auto hostStart = std::chrono::steady_clock::now();
+        const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
+        requests.resize(size_t(stepPoolSpp) * pixels);
+        size_t r = 0;
+        for (uint32_t p : mortonPixels)
+            for (uint32_t i = 0; i < stepPoolSpp; ++i) requests[r++] = {p, i, glm::vec2(0.0f)};
+        const uint32_t seed = stepSeeds.nextUint();
+        hostSeconds += since(hostStart);
+        tracer.queue(StepTracer::kPool, requests, seed);
+        return seed;
+    };
+
+    // The steps overlap on the device (issue 38): step t + 1's pool draws are queued behind
+    // step t's members, so the device traces them while the host reduces step t, resamples
+    // and writes step t + 1's member requests. That changes nothing in the estimator: the pool
+    // draws' pixels and sequence points depend on the schedule alone, never on radiance values
+    // or the population, and step t + 1's size is decided (from the schedule and the clock)
+    // before they are queued, as it was before step t + 1 began.
+    session.startClock();
+    std::optional<uint64_t> nextUnits = agreeStepUnits(0, 0);
+    uint32_t nextSeed = nextUnits && *nextUnits > 0 ? queuePool(*nextUnits) : 0;
+    while (nextUnits) {
+        uint64_t stepUnits = *nextUnits;
+        const uint32_t seed = nextSeed;
+        const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
+        uint64_t total = 0;
+        uint32_t members = 0;
+        bool traced = true;
         if (stepUnits > 0) {
-            // The step's draws: every member's m TR mutations (pixels), then m poolSpp pool draws in
-            // every pixel. How many land in each pixel depends on the past and the host's random
-            // numbers only, never on this step's radiance values.
-            auto hostStart = std::chrono::steady_clock::now();
-            const uint32_t stepPoolSpp = poolSpp * uint32_t(stepUnits);
+            // The members' draws: every member's m TR mutations (pixels). How many land in each
+            // pixel depends on the past and the host's random numbers only, never on this step's
+            // radiance values. They are points stepPoolSpp .. count_p - 1 of the pixel's sequence,
+            // in draw order.
+            const auto hostStart = std::chrono::steady_clock::now();
             draws.clear();
             population.drawMutations(rng, draws, ps.mutations * uint32_t(stepUnits));
-            std::fill(count.begin(), count.end(), stepPoolSpp);
-            for (const PositionDraw& d : draws) ++count[d.pixel];
-            // Pixel p's samples are points 0 .. count_p - 1 of its sequence, scrambled afresh for the
-            // step (the step's seed): the pool draws first, then the members' in draw order.
-            uint32_t total = 0;
-            for (uint32_t p : mortonPixels) {
-                first[p] = total;
-                total += count[p];
+            std::fill(memberCount.begin(), memberCount.end(), 0u);
+            for (const PositionDraw& d : draws) ++memberCount[d.pixel];
+            for (uint32_t p = 0; p < pixels; ++p) {
+                memberFirst[p] = members;
+                members += memberCount[p];
             }
-            requests.resize(total);
-            drawOf.assign(total, PositionDraw::kPool);
-            for (uint32_t p = 0; p < pixels; ++p) next[p] = first[p] + stepPoolSpp;
-            for (uint32_t j = 0; j < draws.size(); ++j) drawOf[next[draws[j].pixel]++] = j;
-            for (uint32_t p : mortonPixels)
-                for (uint32_t i = 0; i < count[p]; ++i) requests[first[p] + i] = {p, i, glm::vec2(0.0f)};
-            push.seed = stepSeeds.nextUint();
+            requests.resize(members);
+            drawOf.resize(members);
+            std::copy(memberFirst.begin(), memberFirst.end(), next.begin());
+            for (uint32_t j = 0; j < draws.size(); ++j) {
+                const uint32_t p = draws[j].pixel;
+                requests[next[p]] = {p, stepPoolSpp + (next[p] - memberFirst[p]), glm::vec2(0.0f)};
+                drawOf[next[p]++] = j;
+            }
+            total = uint64_t(stepPoolSpp) * pixels + members;
             hostSeconds += since(hostStart);
+            tracer.queue(StepTracer::kMembers, requests, seed);
             // Interrupted: an unfinished step is dropped whole. With several ranks this one still
             // joins the step's collectives; the loop then stops on every rank.
-            const bool traced = trace(requests, results);
+            traced = tracer.finish(StepTracer::kPool, poolResults);
             if (!traced && !comm.distributed()) break;
-            hostStart = std::chrono::steady_clock::now();
-            if (!traced) {
-                stepUnits = 0;  // no weight and no samples
-                total = 0;
-            }
-
-            // Reduce pixel by pixel: the step's estimate I_t(p), the average of the step's samples
-            // in p (see the header), the plain sums, the tagged luminances and the strategy counts.
-            if (traced) {
-                for (uint32_t p = 0; p < pixels; ++p) {
-                    glm::dvec3 sum(0.0);
-                    for (uint32_t i = first[p]; i < first[p] + count[p]; ++i) {
-                        const glm::vec4 r = results[i];
-                        sum += glm::dvec3(r.x, r.y, r.z);
-                        pixelLuminance[p].add(r.w);
-                        const uint32_t j = drawOf[i];
-                        if (j != PositionDraw::kPool) {
-                            population.record(draws[j], r.w);
-                            ++strategy[p][draws[j].component];
-                        }
-                    }
-                    stepSum[p] += double(stepUnits) * sum / double(count[p]);
-                    plainSum[p] += sum;
-                }
-            }
-            samples += total;
-            hostSeconds += since(hostStart);
         }
+        // The next step's size and pool draws, while the device traces this step's members.
+        nextUnits = agreeStepUnits(steps + 1, traced ? stepUnits : 0);
+        if (nextUnits && *nextUnits > 0) nextSeed = queuePool(*nextUnits);
+
+        // Reduce pixel by pixel, in order: the step's estimate I_t(p), the average of the step's
+        // samples in p (see the header), the plain sums, the tagged luminances and the strategy
+        // counts. The pool's samples first, then the members' in draw order: the same sums, bit
+        // for bit, however the samples were batched. Pixel p is reduced as soon as its members'
+        // results are in (they are in pixel order), while the device traces the later pixels'.
+        uint32_t reduced = 0;  // pixels
+        auto reduceUpTo = [&](size_t memberResultsIn) {
+            const auto hostStart = std::chrono::steady_clock::now();
+            for (; reduced < pixels; ++reduced) {
+                const uint32_t p = reduced;
+                if (memberFirst[p] + memberCount[p] > memberResultsIn) break;
+                glm::dvec3 sum(0.0);
+                const glm::vec4* pooled = &poolResults[size_t(mortonRank[p]) * stepPoolSpp];
+                for (uint32_t i = 0; i < stepPoolSpp; ++i) {
+                    sum += glm::dvec3(pooled[i].x, pooled[i].y, pooled[i].z);
+                    pixelLuminance[p].add(pooled[i].w);
+                }
+                for (uint32_t i = memberFirst[p]; i < memberFirst[p] + memberCount[p]; ++i) {
+                    const glm::vec4 r = memberResults[i];
+                    sum += glm::dvec3(r.x, r.y, r.z);
+                    pixelLuminance[p].add(r.w);
+                    const PositionDraw& d = draws[drawOf[i]];
+                    population.record(d, r.w);
+                    ++strategy[p][d.component];
+                }
+                stepSum[p] += double(stepUnits) * sum / double(stepPoolSpp + memberCount[p]);
+                plainSum[p] += sum;
+            }
+            hostSeconds += since(hostStart);
+        };
+        if (stepUnits > 0 && traced) {
+            traced = tracer.finish(StepTracer::kMembers, memberResults, reduceUpTo);
+            if (!traced && !comm.distributed()) break;
+            if (traced) reduceUpTo(members);
+        }
+        if (!traced) {
+            stepUnits = 0;  // no weight and no samples
+            total = 0;
+        }
+        samples += total;
         const auto hostStart = std::chrono::steady_clock::now();
-        // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
-        const std::vector<glm::dvec2> poolPositions =
-            pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
         ++steps;
         units += stepUnits;
         population.endStep();
+        // The population adapts and resamples for the next step; after the last there is none.
+        if (nextUnits) {
+            // Regeneration from the pool takes fresh pool positions (PMC-PT sec. 4.3.2).
+            const std::vector<glm::dvec2> poolPositions =
+                pool.next(population.poolReplacementsPerStep(!importance.empty()), rng);
 
-        // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
-        if (steps == 1 || steps % o.adaptEvery == 0) {
-            population.adapt();
-            std::vector<double> luminance(pixels);
-            for (uint32_t p = 0; p < pixels; ++p) {
-                const glm::dvec3 v = estimate(p);
-                luminance[p] = 0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z;
+            // Adapt alpha and beta after the first step and every adapt-every steps (sec. 4.3.3).
+            if (steps == 1 || steps % o.adaptEvery == 0) {
+                population.adapt();
+                std::vector<double> luminance(pixels);
+                for (uint32_t p = 0; p < pixels; ++p) {
+                    const glm::dvec3 v = estimate(p);
+                    luminance[p] = 0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z;
+                }
+                if (comm.distributed()) {
+                    std::vector<RunningStats> pooled = pixelLuminance;
+                    poolImportanceStatistics(comm, pooled, luminance);
+                    importance.update(pooled, luminance);
+                } else {
+                    importance.update(pixelLuminance, luminance);
+                }
+                ++adaptations;
             }
-            if (comm.distributed()) {
-                std::vector<RunningStats> pooled = pixelLuminance;
-                poolImportanceStatistics(comm, pooled, luminance);
-                importance.update(pooled, luminance);
-            } else {
-                importance.update(pixelLuminance, luminance);
-            }
-            ++adaptations;
+            const ResampleCounts c = population.resample(rng, poolPositions, importance);
+            resampled.eliminated += c.eliminated;
+            resampled.fromPool += c.fromPool;
+            resampled.fromImportance += c.fromImportance;
         }
-        const ResampleCounts c = population.resample(rng, poolPositions, importance);
-        resampled.eliminated += c.eliminated;
-        resampled.fromPool += c.fromPool;
-        resampled.fromImportance += c.fromImportance;
         hostSeconds += since(hostStart);
 
         const double sppDone = double(samples) / double(pixels);
