@@ -339,8 +339,8 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     const uint64_t pilotSamples = multiplexed ? uint64_t(kBootstrapPilotPerDepth) * depths : 0;
     if (mainSamples > std::numeric_limits<uint32_t>::max() ||
         (multiplexed && kBootstrapPilotPerDepth + mainSamples > (uint64_t(1) << gpu::MMLT_DEPTH_SHIFT)))
-        throw Error(std::string("--bootstrap: more than ") + (multiplexed ? "2^25 bootstrap samples of one depth" : "2^32 bootstrap samples") +
-                    " possible; lower it");
+        throw Error(multiplexed ? "--bootstrap: a depth could take more than 2^25 bootstrap samples; lower it"
+                                : "--bootstrap: more than 2^32 bootstrap samples; lower it");
 
     // Build the pipelines before the clock starts (compilation is not rendering).
     const vk::Kernel& subpathsKernel = session.kernel(lightsKernelVariant(
