@@ -113,22 +113,28 @@ double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevi
 
 double RenderSession::targetBatchSeconds() const { return m_context.isCpuDevice() ? 0.25 : 0.1; }
 
-bool PassClock::startPass() {
+bool PassClock::startPass(uint32_t pass) {
     if (m_session.shouldStop()) return false;
     const double limit = m_session.settings().timeLimit;
     const double now = m_session.elapsedSeconds();
-    if (limit > 0.0 && m_completed > 0 && now + m_longest > limit) return false;
-    m_passStart = now;
+    double longest = m_longest;
+    for (const auto& [id, start] : m_open) longest = std::max(longest, now - start);
+    if (limit > 0.0 && (m_completed > 0 || !m_open.empty()) && now + longest > limit) return false;
+    std::erase_if(m_open, [&](const auto& p) { return p.first == pass; });
+    m_open.emplace_back(pass, now);
     return true;
 }
 
-void PassClock::passDone() {
-    m_longest = std::max(m_longest, m_session.elapsedSeconds() - m_passStart);
+void PassClock::passDone(uint32_t pass) {
+    const double now = m_session.elapsedSeconds();
+    for (const auto& [id, start] : m_open)
+        if (id == pass) m_longest = std::max(m_longest, now - start);
+    std::erase_if(m_open, [&](const auto& p) { return p.first == pass; });
     ++m_completed;
 }
 
-bool PassClock::abandon() const {
-    return m_session.interrupted() || (m_completed > 0 && m_session.timeUp());
+bool PassClock::abandon(uint32_t pass) const {
+    return m_session.interrupted() || ((m_completed > 0 || pass > 0) && m_session.timeUp());
 }
 
 DispatchSizer::DispatchSizer(uint32_t initialUnits, uint32_t maxUnits, double targetSeconds)

@@ -148,18 +148,19 @@ class PassClock {
 public:
     explicit PassClock(const RenderSession& session) : m_session(session) {}
     // Before each pass: false when the render should stop (Ctrl-C, time up, or a pass as long
-    // as the longest so far would end past the time limit).
-    bool startPass();
+    // as the longest so far, completed or still open, would end past the time limit).
+    // Passes may overlap (PMC-ER's lanes): each is named by its number.
+    bool startPass(uint32_t pass = 0);
     // After a pass completed.
-    void passDone();
+    void passDone(uint32_t pass = 0);
     // During a pass: stop it (and drop it) on Ctrl-C, or when it ran past the time limit and
-    // an earlier pass completed.
-    bool abandon() const;
+    // it is not the first (an earlier pass completed, or will).
+    bool abandon(uint32_t pass = 0) const;
     double longestPassSeconds() const { return m_longest; }
 
 private:
     const RenderSession& m_session;
-    double m_passStart = 0.0;
+    std::vector<std::pair<uint32_t, double>> m_open;  // passes started, not done: their start
     double m_longest = 0.0;
     uint32_t m_completed = 0;
 };

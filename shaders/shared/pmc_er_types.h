@@ -49,7 +49,7 @@ struct PmcErPush {
     uint flags;              // ERPT_FLAG_DEPOSIT_DIRECT (shared/chain_types.h): seed paths
                              // with at most one scattering vertex go to their own pixel;
                              // PMC_ER_FLAG_MIXTURE_ACCEPTANCE
-    uint pad0;
+    uint slotBase;           // seed: first entry of the seed-slot list this dispatch reads
     uint pad1;
     uint pad2;
     vec3 initialAlpha;       // seed: a new member's radius weights (sum 1; --initial-alpha)

@@ -70,5 +70,33 @@ TEST(StratifiedPixelPool, ConsecutiveSamplesAreSpreadOverTheImage) {
             }
 }
 
+TEST(StratifiedPixelPool, LanesSplitTheSequence) {
+    // Lane l of L takes positions l, l + L, ... of the one-lane sequence, in uneven chunks:
+    // together the lanes take every position once, with the same pixels and samples.
+    const int w = 7, h = 5;
+    const uint32_t rounds = 3;
+    Pcg32 rng(5);
+    Pcg32 copy = rng;
+    StratifiedPixelPool whole(w, h, rounds, 6, rng);
+    const auto all = whole.next(uint32_t(whole.size()));
+    for (uint32_t lanes : {2u, 3u, 4u}) {
+        uint64_t total = 0;
+        for (uint32_t lane = 0; lane < lanes; ++lane) {
+            Pcg32 laneRng = copy;
+            StratifiedPixelPool pool(w, h, rounds, 6, laneRng, lane, lanes);
+            total += pool.size();
+            std::vector<PoolSample> got;
+            for (uint32_t n = 1; pool.remaining() > 0; ++n)
+                for (const PoolSample& s : pool.next(n)) got.push_back(s);
+            ASSERT_EQ(got.size(), pool.size());
+            for (size_t i = 0; i < got.size(); ++i) {
+                EXPECT_EQ(got[i].pixel, all[lane + i * lanes].pixel);
+                EXPECT_EQ(got[i].sampleIndex, all[lane + i * lanes].sampleIndex);
+            }
+        }
+        EXPECT_EQ(total, all.size()) << lanes << " lanes";
+    }
+}
+
 }  // namespace
 }  // namespace pmcr::test

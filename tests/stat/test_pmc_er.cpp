@@ -28,6 +28,8 @@ RenderSettings pmcErSettings(int size, uint32_t spp) {
     // one member per pixel and 4 mutations each (10 per path on average) keep renders short.
     s.options["population"] = std::to_string(size * size);
     s.options["mutations"] = "4";
+    // Two lanes, as images from 128x128 up render by default (--lanes auto).
+    s.options["lanes"] = "2";
     return s;
 }
 
@@ -158,6 +160,27 @@ TEST_F(PmcErTest, BadWeightOptionsAreErrors) {
     EXPECT_NO_THROW(renderForTest(scene, s));
     s.options["adapt-rate"] = "1.5";
     EXPECT_THROW(renderForTest(scene, s), Error);
+    s.options.erase("adapt-rate");
+    for (const char* lanes : {"0", "17", "two"}) {
+        s.options["lanes"] = lanes;
+        EXPECT_THROW(renderForTest(scene, s), Error) << lanes;
+    }
+}
+
+// Lanes split the population and every pass's pool, and each is a function of the seed alone:
+// one lane or three give images of the same mean, and three lanes the same image twice.
+TEST_F(PmcErTest, LanesSplitThePopulation) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    RenderSettings s = pmcErSettings(24, 8);
+    s.options["lanes"] = "3";
+    const auto a = renderForTest(scene, s);
+    const auto b = renderForTest(scene, s);
+    EXPECT_EQ(a.output.image.rgb, b.output.image.rgb);
+    const auto& m = a.stats["method_stats"];
+    EXPECT_EQ(m["lanes"].get<uint32_t>(), 3u);
+    EXPECT_EQ(m["passes"].get<int>(), 2);
+    EXPECT_EQ(m["member_mutations"].get<uint64_t>(), m["mutations"].get<uint64_t>());
+    EXPECT_EQ(m["deposits_dropped"].get<uint64_t>(), 0u);
 }
 
 }  // namespace

@@ -11,9 +11,10 @@ PathRecords::PathRecords(vk::Context& context, uint32_t capacity, const std::str
       m_vertices(context, VkDeviceSize(capacity) * gpu::PATH_MAX_VERTICES * sizeof(gpu::PathVertex),
                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, name + " record vertices") {}
 
-void PathRecords::bindTracer(vk::DescriptorSet& work, RenderSession& session, const vk::Buffer& requests) const {
+void PathRecords::bindTracer(vk::DescriptorSet& work, RenderSession& session, const vk::Buffer& requests,
+                             const vk::Buffer* counters) const {
     work.bind(gpu::PT_BINDING_FILM, session.film().pixels());
-    work.bind(gpu::PT_BINDING_COUNTERS, session.film().counters());
+    work.bind(gpu::PT_BINDING_COUNTERS, counters ? *counters : session.film().counters());
     work.bind(gpu::PT_BINDING_REQUESTS, requests);
     work.bind(gpu::PT_BINDING_RESULTS, session.placeholder());
     work.bind(gpu::PT_BINDING_PATH_RECORDS, m_records);

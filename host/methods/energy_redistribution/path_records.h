@@ -19,9 +19,10 @@ public:
     const vk::Buffer& records() const { return m_records; }
     const vk::Buffer& vertices() const { return m_vertices; }
 
-    // pt_record's work set: the session's film and counters, `requests` (PT_SOURCE_LIST /
-    // PT_SOURCE_POINTS; the session's placeholder for tiles) and these records.
-    void bindTracer(vk::DescriptorSet& work, RenderSession& session, const vk::Buffer& requests) const;
+    // pt_record's work set: the session's film and counters (or `counters`), `requests`
+    // (PT_SOURCE_LIST / PT_SOURCE_POINTS; the session's placeholder for tiles) and these records.
+    void bindTracer(vk::DescriptorSet& work, RenderSession& session, const vk::Buffer& requests,
+                    const vk::Buffer* counters = nullptr) const;
     // These records as the seeds of an ERPT or PMC-ER work set (ERPT_BINDING_RECORDS, ..._VERTICES).
     void bindSeeds(vk::DescriptorSet& work) const;
 

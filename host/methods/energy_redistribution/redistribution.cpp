@@ -10,21 +10,34 @@
 
 namespace pmcr {
 
-RedistributionBatch::RedistributionBatch(RenderSession& session)
+RedistributionBatch::RedistributionBatch(RenderSession& session, bool ownCounters)
     : m_session(session),
       m_batch(session.layout(), &session.timer()),
       m_energy(session.context(), gpu::ENERGY_SLOTS * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "redistribution energy",
-               vk::MemoryUsage::Readback) {}
+               vk::MemoryUsage::Readback) {
+    if (ownCounters) m_counters = Film::makeCounters(session.context(), "redistribution counters");
+}
+
+const vk::Buffer& RedistributionBatch::counters() const {
+    return m_counters.valid() ? m_counters : m_session.film().counters();
+}
 
 void RedistributionBatch::begin() {
-    m_batch.fill(m_session.film().counters(), 0);
+    m_batch.fill(counters(), 0);
     m_batch.fill(m_energy, 0);
     m_batch.bind(m_session.scene().descriptorSet());
 }
 
 void RedistributionBatch::submit() {
-    m_batch.submitAndWait();
-    m_session.film().addCounters(m_session.counters());
+    launch();
+    complete();
+}
+
+void RedistributionBatch::launch() { m_batch.submit(); }
+
+void RedistributionBatch::complete() {
+    m_batch.wait();
+    Film::addCounters(counters(), m_session.counters());
     float e[gpu::ENERGY_SLOTS];
     m_energy.download(e, sizeof(e));
     m_seedEnergy += e[gpu::ENERGY_SEED];
@@ -36,6 +49,11 @@ void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float 
                                 uint64_t pathsPerPass, uint32_t pass, uint32_t passes,
                                 uint32_t count) {
     splat.completePass(count);
+    reportRedistributionPass(session, splat, depositEnergy, pathsPerPass, pass, passes);
+}
+
+void reportRedistributionPass(RenderSession& session, const SplatFilm& splat, float depositEnergy,
+                              uint64_t pathsPerPass, uint32_t pass, uint32_t passes) {
     session.snapshotIfDue(uint64_t(splat.completedPasses()) * pathsPerPass,
                           [&] { return splat.resolve(depositEnergy); });
     const double fraction = passes != std::numeric_limits<uint32_t>::max()

@@ -17,15 +17,22 @@ namespace pmcr {
 
 class RedistributionBatch {
 public:
-    explicit RedistributionBatch(RenderSession& session);
+    // `ownCounters`: the kernels count in a counters buffer of this batch's (counters()), not
+    // in the film's, so that several batches can be in flight (PMC-ER's lanes).
+    explicit RedistributionBatch(RenderSession& session, bool ownCounters = false);
 
     vk::CommandBatch& batch() { return m_batch; }
     // float[3] the kernels add seed, deposited and directly deposited energy to (units of e_d).
     const vk::Buffer& energy() const { return m_energy; }
+    // The COUNTER_* buffer the batch's kernels are bound to count in.
+    const vk::Buffer& counters() const;
     // Starts recording: clears the counters and the energy sums, binds the scene.
     void begin();
     // Submits, waits, and adds the batch's counters and energies to the totals.
     void submit();
+    // The same in two steps: the host works while the device runs the batch.
+    void launch();
+    void complete();
 
     double seedEnergy() const { return m_seedEnergy; }
     double depositedEnergy() const { return m_depositedEnergy; }
@@ -35,6 +42,7 @@ private:
     RenderSession& m_session;
     vk::CommandBatch m_batch;
     vk::Buffer m_energy;
+    vk::Buffer m_counters;  // with ownCounters
     double m_seedEnergy = 0.0;
     double m_depositedEnergy = 0.0;
     double m_directEnergy = 0.0;
@@ -47,6 +55,9 @@ private:
 void completeRedistributionPass(RenderSession& session, SplatFilm& splat, float depositEnergy,
                                 uint64_t pathsPerPass, uint32_t pass, uint32_t passes,
                                 uint32_t count = 1);
+// Its second half, for passes already added to `splat`: the snapshot and the progress bar.
+void reportRedistributionPass(RenderSession& session, const SplatFilm& splat, float depositEnergy,
+                              uint64_t pathsPerPass, uint32_t pass, uint32_t passes);
 
 // ERPT's perturbations as options, shared by erpt and mlt (which runs ERPT's own mutations):
 // which perturbation (--mutation: erpt, mix, lens, caustic), the lens disk and the caustic angles.

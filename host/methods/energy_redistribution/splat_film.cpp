@@ -20,6 +20,11 @@ void SplatFilm::completePass(uint32_t count) {
     m_passes += int(count);
 }
 
+void SplatFilm::addPasses(const std::vector<uint64_t>& deposits, uint32_t count) {
+    for (size_t i = 0; i < m_accumulated.size() && i < deposits.size(); ++i) m_accumulated[i] += deposits[i];
+    m_passes += int(count);
+}
+
 Image SplatFilm::resolve(float depositEnergy) const {
     Image image(m_width, m_height);
     if (m_passes == 0) return image;

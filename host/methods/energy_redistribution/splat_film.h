@@ -20,6 +20,9 @@ public:
     // Adds the device film into the host accumulator and clears it: one pass is complete.
     // The device film's deposits join the completed passes: `count` passes run together.
     void completePass(uint32_t count = 1);
+    // Adds `count` completed passes' deposits made on another device film (3 per pixel, read
+    // back by the caller: PMC-ER's lanes each have their own) into the accumulator.
+    void addPasses(const std::vector<uint64_t>& deposits, uint32_t count);
     int completedPasses() const { return m_passes; }
     // Per-pass average: sum over passes / passes, in pixel-value units (e_d per deposit).
     Image resolve(float depositEnergy) const;

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
 #include <limits>
 
 #include "core/error.h"
@@ -30,6 +34,9 @@ constexpr double kPaperMembersPerPixel = 5000.0 / (640.0 * 480.0);
 // over ERPT, geometric mean of 2 seeds): the paper's 267 members 0.19, 1024 0.41, 4096 0.50,
 // 16384 0.41 (docs/methods.md, PMC-ER).
 constexpr uint32_t kPixelsPerMember = 4;
+// --lanes auto: two lanes once each holds this many members (below, the host's steps are short
+// next to the device's, and smaller dispatches would fill a device less).
+constexpr uint32_t kMinLaneMembers = 2048;
 
 }  // namespace
 
@@ -103,14 +110,107 @@ PmcErOptions PmcErOptions::fromSettings(const RenderSettings& s) {
     const int steps = s.optionInt("steps-per-dispatch", int(o.stepsPerDispatch));
     if (steps < 1 || steps > 64) throw Error("--steps-per-dispatch: expected 1..64");
     o.stepsPerDispatch = uint32_t(steps);
+    const std::string lanes = s.optionString("lanes", "auto");
+    if (lanes != "auto") {
+        const int n = s.optionInt("lanes", 0);
+        if (n < 1 || n > 16) throw Error("--lanes: expected auto or 1..16");
+        o.lanes = uint32_t(n);
+    }
     return o;
 }
 
 PmcEr::PmcEr(const RenderSettings& settings) : m_options(PmcErOptions::fromSettings(settings)) {}
 
+namespace {
+
+// A generator for each pass's pool (lane kPoolLane: the same for every lane) and for each lane's
+// survival draws in a pass: seeded by a hash of (render seed, pass, lane) on one stream (streams
+// whose increments differ by 2 repeat each other's outputs one step apart), so that a lane's pass
+// is a function of the seed alone, whatever the order the host comes to the lanes in.
+constexpr uint32_t kPoolLane = 0xffffffffu;
+Pcg32 passGenerator(uint32_t seed, uint32_t pass, uint32_t lane) {
+    // splitmix64's finaliser (Steele, Lea and Flood, OOPSLA 2014).
+    uint64_t z = ((uint64_t(seed) << 32) | pass) ^ (uint64_t(lane) * 0xd1b54a32d192ed03ULL);
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return Pcg32(z ^ (z >> 31), 0x504d432d4552ULL);  // "PMC-ER"
+}
+
+// One lane of the population (pmc_er_integrator.h): `size` members, the buffers, command batch and
+// work sets they need, and where the lane is in its pass. A lane's batch holds one step of its
+// schedule: a regeneration round, an iteration's mutations, a drain step or the pass's end.
+struct Lane {
+    enum class Phase { Idle, Regenerate, Mutate, Drain, Finish };
+
+    Lane(RenderSession& session, uint32_t index_, uint32_t size_, const PmcErOptions& o, uint32_t pixels,
+         const vk::Buffer& strategy, const vk::Buffer& pixelStats)
+        : index(index_),
+          size(size_),
+          paths(size_, int(o.radii.size()), o.resampleRate, o.epsilon, o.adaptRate),
+          batches(session, true),
+          requests(session.context(), VkDeviceSize(size_) * sizeof(gpu::SampleRequest), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                   "pmc-er pool requests", vk::MemoryUsage::Upload),
+          seedSlots(session.context(), VkDeviceSize(size_) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                    "pmc-er seed slots", vk::MemoryUsage::Upload),
+          chains(session.context(), VkDeviceSize(size_) * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                 "pmc-er paths"),
+          chainVertices(session.context(), VkDeviceSize(size_) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er path vertices"),
+          members(session.context(), VkDeviceSize(size_) * sizeof(gpu::PmcErMember), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                  "pmc-er members", vk::MemoryUsage::Readback),
+          active(session.context(), VkDeviceSize(size_) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                 "pmc-er active members", vk::MemoryUsage::Upload),
+          film(session.context(), VkDeviceSize(pixels) * sizeof(gpu::SplatPixel), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+               "pmc-er lane film"),
+          filmReadback(session.context(), VkDeviceSize(pixels) * sizeof(gpu::SplatPixel), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       "pmc-er lane film (readback)", vk::MemoryUsage::Readback),
+          records(session.context(), std::min(kRecordChunk, size_), "pmc-er path"),
+          ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er pool paths"),
+          work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er population"),
+          rng(passGenerator(0, 0, index_)) {
+        film.fill(0);
+        members.fill(0);
+        records.bindTracer(ptWork, session, requests, &batches.counters());
+        records.bindSeeds(work);
+        work.bind(gpu::ERPT_BINDING_CHAINS, chains);
+        work.bind(gpu::ERPT_BINDING_CHAIN_VERTICES, chainVertices);
+        work.bind(gpu::ERPT_BINDING_SPLAT, film);
+        work.bind(gpu::ERPT_BINDING_COUNTERS, batches.counters());
+        work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
+        work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
+        work.bind(gpu::PMC_ER_BINDING_MEMBERS, members);
+        work.bind(gpu::PMC_ER_BINDING_STRATEGY, strategy);
+        work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
+        work.bind(gpu::PMC_ER_BINDING_ACTIVE, active);
+    }
+
+    uint32_t index;
+    uint32_t size;
+    PathPopulation paths;
+    RedistributionBatch batches;
+    vk::Buffer requests, seedSlots, chains, chainVertices, members, active, film, filmReadback;
+    PathRecords records;
+    vk::DescriptorSet ptWork, work;
+
+    Phase phase = Phase::Idle;
+    bool done = false;          // no pass left to take part in
+    uint32_t pass = 0;          // the pass of the batch in flight
+    uint32_t nextPass = 0;
+    std::optional<StratifiedPixelPool> pool;  // this lane's share of the pass's pool
+    Pcg32 rng;                                // survival draws
+    std::vector<uint32_t> slots;              // Regenerate: the slots the round fills
+    uint32_t round = 0;                       // Regenerate: refill round
+    uint32_t seedDispatches = 0;              // in this pass: keeps the seed kernel's numbers apart
+    uint64_t drainBudget = 0;
+    bool drainStarted = false;
+    uint64_t batchUnits = 0;                  // mutation dispatch units in the batch (DispatchSizer)
+};
+
+}  // namespace
+
 RenderOutput PmcEr::render(RenderSession& session) {
     const RenderSettings& settings = session.settings();
-    vk::Context& context = session.context();
     const PmcErOptions& o = m_options;
     const int width = session.width(), height = session.height();
     const uint32_t pixels = uint32_t(width) * uint32_t(height);
@@ -120,8 +220,8 @@ RenderOutput PmcEr::render(RenderSession& session) {
         : o.paperPopulation ? std::max<uint32_t>(64, uint32_t(std::lround(kPaperMembersPerPixel * pixels)))
                             : std::max<uint32_t>(64, pixels / kPixelsPerMember);
     const int components = int(o.radii.size());
-    PathPopulation paths(population, components, o.resampleRate, o.epsilon, o.adaptRate);
-    const uint32_t replacements = paths.replacementsPerIteration();
+    const uint32_t replacements = PathPopulation(population, components, o.resampleRate, o.epsilon, o.adaptRate)
+                                      .replacementsPerIteration();
     // A render of fewer paths per pixel than a pass is one shorter pass.
     const uint32_t rounds = std::max(settings.spp > 0 ? std::min(o.passSpp, settings.spp) : o.passSpp,
                                      (population + pixels - 1) / pixels);
@@ -133,6 +233,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
         ? std::max<uint32_t>(1, uint32_t(std::lround(double(settings.spp) * pixels / double(poolPerPass))))
         : settings.timeLimit > 0.0 ? std::numeric_limits<uint32_t>::max()
                                    : std::max<uint32_t>(1, uint32_t(std::lround(double(kDefaultSpp) * pixels / double(poolPerPass))));
+    const uint32_t laneCount = std::min(population, o.lanes > 0 ? o.lanes : population >= 2 * kMinLaneMembers ? 2u : 1u);
 
     // Each kernel in the variant for the scene's lights (punctual lights, an environment).
     auto kernel = [&](const std::string& path) -> const vk::Kernel& {
@@ -143,6 +244,20 @@ RenderOutput PmcEr::render(RenderSession& session) {
     const vk::Kernel& mutateKernel = kernel("methods/pmc_er/pmc_er_mutate");
     const vk::Kernel& finishKernel = session.kernel("methods/pmc_er/pmc_er_finish");
     session.kernel(pathTracingKernel(session.scene(), "pt"));  // the pre-pass
+    // The buffers, before the clock starts (nothing in them depends on the pre-pass).
+    vk::Context& context = session.context();
+    SplatFilm splat(context, width, height);  // the completed passes (the lanes deposit on films of their own)
+    vk::Buffer strategy(context, VkDeviceSize(pixels) * gpu::PMC_ER_MAX_RADII * sizeof(uint32_t),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er strategy");
+    strategy.fill(0);
+    vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                          "pmc-er pixel stats");
+    pixelStats.fill(0);
+    std::vector<std::unique_ptr<Lane>> lanes;
+    for (uint32_t l = 0; l < laneCount; ++l)
+        lanes.push_back(std::make_unique<Lane>(session, l, population / laneCount + (l < population % laneCount ? 1 : 0),
+                                               o, pixels, strategy, pixelStats));
+
     session.startClock();
 
     // e_d = E~ / (T N M) (PMC-ER eq. 4), E~ = P x mean pixel luminance (eq. 2-3).
@@ -152,46 +267,6 @@ RenderOutput PmcEr::render(RenderSession& session) {
     const float depositEnergy = float(imageEnergy / mutationsPerPass);
     // A path of luminance L carries L P / Npool of pixel value, L P / (Npool e_d) deposits.
     const float seedScale = float(double(pixels) / double(poolPerPass) / double(depositEnergy));
-
-    Film& film = session.film();
-    SplatFilm splat(context, width, height);
-    const uint32_t recordCapacity = std::min<uint32_t>(kRecordChunk, std::max(population, replacements));
-    vk::Buffer requests(context, recordCapacity * sizeof(gpu::SampleRequest), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                        "pmc-er pool requests");
-    PathRecords records(context, recordCapacity, "pmc-er path");
-    vk::Buffer seedSlots(context, recordCapacity * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                         "pmc-er seed slots");
-    vk::Buffer chains(context, VkDeviceSize(population) * sizeof(gpu::ChainState), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                      "pmc-er paths");
-    vk::Buffer chainVertices(context, VkDeviceSize(population) * 2 * gpu::CHAIN_MAX_VERTICES * sizeof(gpu::ChainVertex),
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er path vertices");
-    vk::Buffer members(context, VkDeviceSize(population) * sizeof(gpu::PmcErMember), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                       "pmc-er members", vk::MemoryUsage::Readback);
-    vk::Buffer active(context, VkDeviceSize(population) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                      "pmc-er active members");
-    vk::Buffer strategy(context, VkDeviceSize(pixels) * gpu::PMC_ER_MAX_RADII * sizeof(uint32_t),
-                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-er strategy");
-    strategy.fill(0);
-    vk::Buffer pixelStats(context, pixels * sizeof(gpu::PixelChainStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                          "pmc-er pixel stats");
-    pixelStats.fill(0);
-
-    vk::DescriptorSet ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er pool paths");
-    records.bindTracer(ptWork, session, requests);
-    vk::DescriptorSet work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er population");
-    records.bindSeeds(work);
-    work.bind(gpu::ERPT_BINDING_CHAINS, chains);
-    work.bind(gpu::ERPT_BINDING_CHAIN_VERTICES, chainVertices);
-    work.bind(gpu::ERPT_BINDING_SPLAT, splat.pixels());
-    work.bind(gpu::ERPT_BINDING_COUNTERS, film.counters());
-    work.bind(gpu::ERPT_BINDING_PIXEL_STATS, pixelStats);
-    RedistributionBatch batches(session);
-    vk::CommandBatch& batch = batches.batch();
-    work.bind(gpu::ERPT_BINDING_ENERGY, batches.energy());
-    work.bind(gpu::PMC_ER_BINDING_MEMBERS, members);
-    work.bind(gpu::PMC_ER_BINDING_STRATEGY, strategy);
-    work.bind(gpu::PMC_ER_BINDING_SEED_SLOTS, seedSlots);
-    work.bind(gpu::PMC_ER_BINDING_ACTIVE, active);
 
     gpu::PtPush ptPush{};
     ptPush.source = gpu::PT_SOURCE_LIST;
@@ -226,37 +301,21 @@ RenderOutput PmcEr::render(RenderSession& session) {
     double drainedEnergy = 0.0;    // held by the population when the passes' drains started
     std::vector<double> alphaSum(size_t(components), 0.0);
     uint64_t alphaMembers = 0;
+    uint64_t activeSteps = 0;  // member steps dispatched (mutations made, or fewer at death)
+    double hostSeconds = 0.0;  // the host's steps between a lane's batches
     DispatchSizer sizer(1024, population, session.targetDispatchSeconds());
 
-    // Work goes into batches of a few dispatches (one submission each, on the render clock).
-    const uint32_t perBatch = uint32_t(std::clamp(
-        session.targetBatchSeconds() / session.targetDispatchSeconds(), 1.0, 64.0));
-    uint32_t inBatch = 0;
-    uint64_t batchUnits = 0;
-    auto batchStart = std::chrono::steady_clock::now();
-    auto flush = [&]() {
-        if (inBatch == 0) return;
-        batches.submit();
-        if (batchUnits > 0)
-            sizer.record(batchUnits, std::chrono::duration<double>(std::chrono::steady_clock::now() - batchStart).count());
-        inBatch = 0;
-        batchUnits = 0;
-    };
-    auto open = [&]() {
-        if (inBatch > 0) return;
-        batches.begin();
-        batchStart = std::chrono::steady_clock::now();
-    };
-
-    // Records the path tracing of the next pool positions and the members made of them in
-    // `slots` (chunks beyond the first need the record buffers again: submitted in between).
-    // Slots beyond what is left of the pool stay empty.
-    uint32_t seedDispatches = 0;  // in this pass: keeps the seed kernel's random numbers apart
-    auto regenerate = [&](StratifiedPixelPool& pool, const std::vector<uint32_t>& slots, uint32_t pass) {
-        for (size_t first = 0; first < slots.size() && pool.remaining() > 0; first += recordCapacity) {
-            std::vector<PoolSample> samples =
-                pool.next(uint32_t(std::min<size_t>(recordCapacity, slots.size() - first)));
-            const uint32_t n = uint32_t(samples.size());
+    // Records the path tracing of the next positions of the lane's pool and the members made of
+    // them in lane.slots (chunks of the record buffer, one after another in the batch); slots
+    // beyond what is left of the pool stay empty. False when there is nothing to regenerate.
+    auto recordRegenerate = [&](Lane& lane) -> bool {
+        const uint32_t n = uint32_t(std::min<uint64_t>(lane.slots.size(), lane.pool->remaining()));
+        if (n == 0) return false;
+        std::vector<gpu::SampleRequest> req(n);
+        const uint32_t capacity = std::min(kRecordChunk, lane.size);
+        for (uint32_t first = 0; first < n; first += capacity) {
+            const uint32_t count = std::min(capacity, n - first);
+            std::vector<PoolSample> samples = lane.pool->next(count);
             // Traced in pixel order: neighbouring invocations trace neighbouring rays (the pool's
             // order spreads them over the image, which made tracing twice as slow on lavapipe).
             // Which slot a path fills does not matter.
@@ -264,158 +323,249 @@ RenderOutput PmcEr::render(RenderSession& session) {
                 return x.pixel != y.pixel ? x.pixel < y.pixel : x.sampleIndex < y.sampleIndex;
             });
             // The pixel's own sampler sequence places the position and drives the path.
-            std::vector<gpu::SampleRequest> req(n);
-            for (uint32_t i = 0; i < n; ++i) {
-                req[i].pixel = samples[i].pixel;
-                req[i].sampleIndex = samples[i].sampleIndex;
-                req[i].raster = glm::vec2(0.0f);
+            for (uint32_t i = 0; i < count; ++i) {
+                req[first + i].pixel = samples[i].pixel;
+                req[first + i].sampleIndex = samples[i].sampleIndex;
+                req[first + i].raster = glm::vec2(0.0f);
             }
-            flush();
-            requests.upload(req.data(), n * sizeof(gpu::SampleRequest));
-            seedSlots.upload(slots.data() + first, n * sizeof(uint32_t));
-            open();
-            batch.bind(ptWork);
-            ptPush.invocationCount = n;
-            ptPush.requestOffset = 0;
+        }
+        lane.requests.upload(req.data(), n * sizeof(gpu::SampleRequest));
+        lane.seedSlots.upload(lane.slots.data(), n * sizeof(uint32_t));
+        lane.batches.begin();
+        vk::CommandBatch& batch = lane.batches.batch();
+        for (uint32_t first = 0; first < n; first += capacity) {
+            const uint32_t count = std::min(capacity, n - first);
+            batch.bind(lane.ptWork);
+            ptPush.invocationCount = count;
+            ptPush.requestOffset = first;
             ptPush.recordOffset = 0;
             // pt_record.comp takes several paths per invocation in turn on a CPU device.
-            ptPush.itemsPerInvocation = ptItemsPerInvocation(session.context(), n);
-            batch.dispatch(recordKernel, ptPush, (n + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
-            batch.bind(work);
-            push.memberCount = n;
-            push.pass = pass;
-            push.iteration = seedDispatches++;
-            batch.dispatch(seedKernel, push, n);
-            inBatch += 2;
+            ptPush.itemsPerInvocation = ptItemsPerInvocation(context, count);
+            batch.dispatch(recordKernel, ptPush, (count + ptPush.itemsPerInvocation - 1) / ptPush.itemsPerInvocation);
+            batch.bind(lane.work);
+            push.memberCount = count;
+            push.slotBase = first;
+            push.pass = lane.pass;
+            push.iteration = lane.seedDispatches++ * laneCount + lane.index;
+            batch.dispatch(seedKernel, push, count);
         }
-    };
-    // Regenerates `slots` until each holds a member with energy or the pool is used up: a path
-    // born without shares (floor(U + E / Q) = 0, or only direct paths) leaves its slot empty,
-    // and the next pool path takes it at once rather than an iteration later. Which slot a
-    // path fills changes neither its energy nor its lifetime law: still unbiased.
-    auto regenerateAlive = [&](StratifiedPixelPool& pool, std::vector<uint32_t> slots, uint32_t pass) {
-        for (uint32_t round = 0; !slots.empty() && pool.remaining() > 0 && round < o.refillRounds; ++round) {
-            regenerate(pool, slots, pass);
-            flush();
-            const auto state = members.download<gpu::PmcErMember>(population);
-            std::vector<uint32_t> empty;
-            for (uint32_t s : slots)
-                if (!(state[s].remaining > 0.0f)) empty.push_back(s);
-            slots.swap(empty);
-        }
+        lane.batches.launch();
+        lane.phase = Lane::Phase::Regenerate;
+        return true;
     };
     // Records `steps` mutations of every member with energy, in dispatches the sizer keeps short.
     // The members go through a list of those with energy in the order of their current pixels:
     // dispatching every slot left invocations idle on dead members (most of them late in a
     // pass), and slots in birth order made neighbouring invocations trace paths far apart in
     // the image. Which invocation runs a member changes none of its random numbers: same image.
-    uint64_t activeSteps = 0;  // member steps dispatched (mutations made, or fewer at death)
-    auto mutate = [&](uint32_t steps) {
-        flush();
-        const std::vector<uint32_t> list = activeMembers(members.download<gpu::PmcErMember>(population));
-        if (list.empty()) return;
-        active.upload(list);
+    // False when no member has energy.
+    auto recordMutate = [&](Lane& lane, const std::vector<gpu::PmcErMember>& state, uint32_t steps,
+                            Lane::Phase phase) -> bool {
+        const std::vector<uint32_t> list = activeMembers(state);
+        if (list.empty()) return false;
+        lane.active.upload(list);
         const uint32_t count = uint32_t(list.size());
+        lane.batches.begin();
+        vk::CommandBatch& batch = lane.batches.batch();
+        lane.batchUnits = 0;
         for (uint32_t done = 0; done < steps;) {
             push.steps = std::min(o.stepsPerDispatch, steps - done);
             for (uint32_t m = 0; m < count;) {
-                open();
-                batch.bind(work);
+                batch.bind(lane.work);
                 push.memberBase = m;
                 push.memberCount = std::min(sizer.units(), count - m);
                 batch.dispatch(mutateKernel, push, push.memberCount);
-                batchUnits += uint64_t(push.memberCount) * push.steps / o.stepsPerDispatch;
+                lane.batchUnits += uint64_t(push.memberCount) * push.steps / o.stepsPerDispatch;
                 activeSteps += uint64_t(push.memberCount) * push.steps;
                 m += push.memberCount;
-                if (++inBatch >= perBatch) flush();
             }
             done += push.steps;
         }
+        lane.batches.launch();
+        lane.phase = phase;
+        return true;
     };
-    auto downloadMembers = [&]() {
-        flush();
-        auto state = members.download<gpu::PmcErMember>(population);
-        for (auto& m : state) {
-            mutationsRun += m.mutations;
-            m.mutations = 0;  // counted: start afresh
+    // The pass's end for this lane: every member deposits what it has left, and the lane's film
+    // is copied out for the host and cleared for its next pass.
+    auto recordFinish = [&](Lane& lane, const std::vector<gpu::PmcErMember>& state) {
+        for (const auto& m : state) {
+            remainderEnergy += std::max(0.0f, m.remaining) * m.shares;
+            for (int k = 0; k < components; ++k) alphaSum[size_t(k)] += m.alpha[k];
+            ++alphaMembers;
         }
-        members.upload(state);
-        return state;
+        lane.batches.begin();
+        vk::CommandBatch& batch = lane.batches.batch();
+        batch.bind(lane.work);
+        push.memberBase = 0;
+        push.memberCount = lane.size;
+        batch.dispatch(finishKernel, push, lane.size);
+        batch.copy(lane.film, lane.filmReadback, lane.film.size());
+        batch.fill(lane.film, 0);
+        lane.batches.launch();
+        lane.phase = Lane::Phase::Finish;
+    };
+    // Drain: the members go on mutating, without regeneration, until they have deposited their
+    // energy (the population's energy grows over a pass: members without energy deposit
+    // nothing, so fewer than N M deposits balance each iteration's seeds) or the pass has made
+    // twice its budget of mutations; what is left is deposited at once.
+    auto drainStep = [&](Lane& lane, const std::vector<gpu::PmcErMember>& state) {
+        double left = 0.0, most = 0.0;
+        uint64_t alive = 0;
+        for (const auto& m : state) {
+            left += std::max(0.0f, m.remaining) * m.shares;
+            most = std::max(most, double(m.remaining));
+            alive += m.remaining > 0.0f ? 1 : 0;
+        }
+        if (left > 0.0 && lane.drainBudget > 0) {
+            const uint32_t steps = uint32_t(std::clamp(std::ceil(most), 1.0, double(4 * o.mutations)));
+            lane.drainBudget -= std::min<uint64_t>(lane.drainBudget, alive * steps);
+            if (!lane.drainStarted) drainedEnergy += left;
+            lane.drainStarted = true;
+            if (recordMutate(lane, state, steps, Lane::Phase::Drain)) return;
+        }
+        recordFinish(lane, state);
+    };
+    // After an iteration's mutations: the pass's drain once the lane's pool is used up, else
+    // adapt, eliminate and regenerate (sec. 4.5).
+    auto iterate = [&](Lane& lane, std::vector<gpu::PmcErMember>& state) {
+        ++iterationsRun;
+        if (lane.pool->remaining() == 0) {
+            lane.drainBudget = uint64_t(iterations) * lane.size * o.mutations;
+            lane.drainStarted = false;
+            drainStep(lane, state);
+            return;
+        }
+        lane.paths.adapt(state);
+        const PathResampleResult r = lane.paths.eliminate(state, lane.rng);
+        eliminated += r.eliminated;
+        lane.members.upload(state);
+        // The eliminated members' slots and any other empty one (a member that has deposited all
+        // its energy) take new paths.
+        std::vector<uint32_t> empty;
+        for (uint32_t i = 0; i < lane.size; ++i)
+            if (!(state[i].remaining > 0.0f)) empty.push_back(i);
+        lane.slots = o.refillRounds > 1 ? std::move(empty) : r.regenerate;
+        lane.round = 0;
+        if (!recordRegenerate(lane) && !recordMutate(lane, state, o.mutations, Lane::Phase::Mutate))
+            drainStep(lane, state);  // no member and nothing left to make one of
     };
 
-    bool interrupted = false;
-    // One generator for the whole render (pool shifts, survival draws). Not one PCG stream per
-    // pass: streams whose increments differ by 2 repeat each other's outputs one step apart, so
-    // render seeds r and r + 2 would share their passes' random numbers.
-    Pcg32 rng(settings.seed, 0x504d432d4552ULL);  // "PMC-ER"
-    if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
-        PassClock clock(session);
-        for (uint32_t pass = 0; pass < passes && clock.startPass(); ++pass) {
-            StratifiedPixelPool pool(width, height, rounds, pass * rounds, rng);
-            std::vector<uint32_t> all(population);
-            for (uint32_t i = 0; i < population; ++i) all[i] = i;
-            seedDispatches = 0;
-            regenerateAlive(pool, all, pass);
-            for (;;) {
-                mutate(o.mutations);
-                ++iterationsRun;
-                auto state = downloadMembers();
-                if (clock.abandon()) {
-                    interrupted = true;
-                    break;
-                }
-                if (pool.remaining() == 0) break;
-                // Adapt, eliminate, regenerate (sec. 4.5).
-                paths.adapt(state);
-                const PathResampleResult r = paths.eliminate(state, rng);
-                eliminated += r.eliminated;
-                members.upload(state);
-                // The eliminated members' slots and any other empty one (a member that has
-                // deposited all its energy) take new paths.
+    // Passes: a lane takes part in every pass in order, and at most two are open at once (a
+    // lane done with pass p may start p + 1 while the others finish p). A pass is complete when
+    // every lane has finished its share; its films' sum joins the image.
+    PassClock clock(session);
+    uint32_t passLimit = passes;   // lowered when the clock stops starting passes
+    uint32_t dropFrom = passes;    // passes abandoned (time up or Ctrl-C) from this one on
+    uint32_t started = 0, completed = 0;
+    struct OpenPass {
+        std::vector<uint64_t> deposits;
+        uint32_t lanesDone = 0;
+    };
+    std::map<uint32_t, OpenPass> open;
+    auto startPass = [&](Lane& lane) {
+        const uint32_t pass = lane.nextPass;
+        if (pass >= std::min(passLimit, dropFrom)) {
+            lane.done = true;
+            return;
+        }
+        if (pass >= started) {
+            if (pass > completed + 1) return;  // waits for pass `completed` to complete
+            if (!clock.startPass(pass)) {
+                passLimit = pass;
+                lane.done = true;
+                return;
+            }
+            started = pass + 1;
+        }
+        lane.pass = pass;
+        lane.nextPass = pass + 1;
+        Pcg32 poolRng = passGenerator(settings.seed, pass, kPoolLane);
+        lane.pool.emplace(width, height, rounds, pass * rounds, poolRng, lane.index, laneCount);
+        lane.rng = passGenerator(settings.seed, pass, lane.index);
+        lane.seedDispatches = 0;
+        lane.slots.resize(lane.size);
+        for (uint32_t i = 0; i < lane.size; ++i) lane.slots[i] = i;
+        lane.round = 0;
+        if (!recordRegenerate(lane)) recordFinish(lane, lane.members.download<gpu::PmcErMember>(lane.size));
+    };
+    // The host's step after a lane's batch completed: what it found, then the lane's next batch.
+    auto step = [&](Lane& lane) {
+        const Lane::Phase phase = lane.phase;
+        lane.batches.complete();
+        const auto hostStart = std::chrono::steady_clock::now();
+        lane.phase = Lane::Phase::Idle;
+        const double deviceSeconds = lane.batches.batch().lastDeviceSeconds();
+        if ((phase == Lane::Phase::Mutate || phase == Lane::Phase::Drain) && deviceSeconds > 0.0)
+            sizer.record(lane.batchUnits, deviceSeconds);
+        if (lane.pass >= dropFrom || clock.abandon(lane.pass)) {
+            dropFrom = std::min(dropFrom, lane.pass);  // this pass and any after it are dropped
+            open.erase(open.lower_bound(dropFrom), open.end());
+        } else if (phase == Lane::Phase::Finish) {
+            std::vector<uint64_t> deposits = lane.filmReadback.download<uint64_t>(size_t(pixels) * 3);
+            OpenPass& p = open[lane.pass];
+            if (p.deposits.empty()) p.deposits = std::move(deposits);
+            else for (size_t i = 0; i < deposits.size(); ++i) p.deposits[i] += deposits[i];
+            // Passes complete in order: a lane finishes p before it starts p + 1.
+            if (++p.lanesDone == laneCount) {
+                splat.addPasses(p.deposits, 1);
+                open.erase(lane.pass);
+                ++completed;
+                clock.passDone(lane.pass);
+                reportRedistributionPass(session, splat, depositEnergy, poolPerPass, lane.pass, passes);
+            }
+            startPass(lane);
+        } else {
+            auto state = lane.members.download<gpu::PmcErMember>(lane.size);
+            uint64_t made = 0;
+            for (auto& m : state) {
+                made += m.mutations;
+                m.mutations = 0;  // counted: start afresh
+            }
+            if (made > 0) {
+                mutationsRun += made;
+                lane.members.upload(state);
+            }
+            if (phase == Lane::Phase::Regenerate) {
+                // Slots whose birth had no shares (floor(U + E / Q) = 0, or only direct paths)
+                // take the next pool paths at once rather than an iteration later. Which slot a
+                // path fills changes neither its energy nor its lifetime law: still unbiased.
                 std::vector<uint32_t> empty;
-                for (uint32_t i = 0; i < population; ++i)
-                    if (!(state[i].remaining > 0.0f)) empty.push_back(i);
-                regenerateAlive(pool, o.refillRounds > 1 ? empty : r.regenerate, pass);
-            }
-            if (interrupted) break;
-            // Drain: the members go on mutating, without regeneration, until they have deposited
-            // their energy (the population's energy grows over a pass: members without energy
-            // deposit nothing, so fewer than N M deposits balance each iteration's seeds) or the
-            // pass has made twice its budget of mutations; what is left is deposited at once.
-            uint64_t drainBudget = uint64_t(iterations) * population * o.mutations;
-            for (bool first = true;; first = false) {
-                auto state = downloadMembers();
-                double left = 0.0, most = 0.0;
-                uint64_t alive = 0;
-                for (const auto& m : state) {
-                    left += std::max(0.0f, m.remaining) * m.shares;
-                    most = std::max(most, double(m.remaining));
-                    alive += m.remaining > 0.0f ? 1 : 0;
+                for (uint32_t s : lane.slots)
+                    if (!(state[s].remaining > 0.0f)) empty.push_back(s);
+                lane.slots.swap(empty);
+                if (++lane.round < o.refillRounds && recordRegenerate(lane)) {
+                } else if (!recordMutate(lane, state, o.mutations, Lane::Phase::Mutate)) {
+                    iterate(lane, state);
                 }
-                if (left <= 0.0 || drainBudget == 0 || clock.abandon()) break;
-                const uint32_t steps = uint32_t(std::clamp(std::ceil(most), 1.0, double(4 * o.mutations)));
-                drainBudget -= std::min<uint64_t>(drainBudget, alive * steps);
-                if (first) drainedEnergy += left;
-                mutate(steps);
+            } else if (phase == Lane::Phase::Mutate) {
+                iterate(lane, state);
+            } else {
+                drainStep(lane, state);
             }
-            if (clock.abandon()) {
-                interrupted = true;
-                break;
-            }
-            auto state = downloadMembers();
-            for (const auto& m : state) {
-                remainderEnergy += std::max(0.0f, m.remaining) * m.shares;
-                for (int k = 0; k < components; ++k) alphaSum[size_t(k)] += m.alpha[k];
-                ++alphaMembers;
-            }
-            batches.begin();
-            batch.bind(work);
-            push.memberBase = 0;
-            push.memberCount = population;
-            batch.dispatch(finishKernel, push, population);
-            batches.submit();
-            completeRedistributionPass(session, splat, depositEnergy, poolPerPass, pass, passes);
-            clock.passDone();
+        }
+        hostSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - hostStart).count();
+    };
+
+    if (depositEnergy > 0.0f && std::isfinite(depositEnergy) && std::isfinite(seedScale)) {
+        // The batches in flight, oldest first: the host waits for the oldest, works on its lane
+        // and queues that lane's next batch behind the others'.
+        std::deque<Lane*> inFlight;
+        for (auto& lane : lanes) {
+            startPass(*lane);
+            if (lane->phase != Lane::Phase::Idle) inFlight.push_back(lane.get());
+        }
+        while (!inFlight.empty()) {
+            Lane& lane = *inFlight.front();
+            inFlight.pop_front();
+            step(lane);
+            if (lane.phase != Lane::Phase::Idle) inFlight.push_back(&lane);
+            // A lane waiting for a pass to complete may go on now.
+            for (auto& other : lanes)
+                if (other->phase == Lane::Phase::Idle && !other->done &&
+                    std::find(inFlight.begin(), inFlight.end(), other.get()) == inFlight.end()) {
+                    startPass(*other);
+                    if (other->phase != Lane::Phase::Idle) inFlight.push_back(other.get());
+                }
         }
     }
     session.progress().finish();
@@ -447,14 +597,20 @@ RenderOutput PmcEr::render(RenderSession& session) {
     out.samplesPerPixel = double(out.cameraSamples) / double(pixels);
 
     const Counters& c = session.counters();
-    const double seedEnergy = batches.seedEnergy(), depositedEnergy = batches.depositedEnergy();
-    const double directEnergy = batches.directEnergy();
+    double seedEnergy = 0.0, depositedEnergy = 0.0, directEnergy = 0.0;
+    for (const auto& lane : lanes) {
+        seedEnergy += lane->batches.seedEnergy();
+        depositedEnergy += lane->batches.depositedEnergy();
+        directEnergy += lane->batches.directEnergy();
+    }
     nlohmann::json meanAlpha = nlohmann::json::array();
     for (int k = 0; k < components; ++k)
         meanAlpha.push_back(alphaMembers > 0 ? alphaSum[size_t(k)] / double(alphaMembers) : 0.0);
     out.methodStats = {
         {"passes", done},
         {"population", population},
+        {"lanes", laneCount},
+        {"host_seconds", hostSeconds},  // the host's steps between a lane's batches
         {"iterations_per_pass", iterations},  // without refills (--refill-rounds 1)
         {"iterations_run", iterationsRun},
         {"replacements_per_iteration", replacements},
@@ -503,6 +659,7 @@ MethodInfo pmcErMethod() {
          {"redistribute", "indirect", "indirect: seed paths with at most one scattering vertex are deposited at their pixel, the rest make members; all: every path (the paper)"},
          {"prepass-spp", "4", "path-traced samples per pixel estimating the image energy"},
          {"steps-per-dispatch", "4", "mutations per member per dispatch"},
+         {"lanes", "auto", "lanes the population is split into, adapted and resampled apart so that the host works on one while the device runs another (auto: 2 from 4096 members, else 1)"},
          {"birth", "equal", "equal: every member starts with the mean path energy Q and floor(U + E/Q) shares; path: the paper's E_remain = E", true}},
         [](const RenderSettings& s) { return std::make_unique<PmcEr>(s); }, ""};
 }

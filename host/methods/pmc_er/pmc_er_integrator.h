@@ -23,7 +23,12 @@
 // iterations use them up (the last regeneration takes what is left); each pass is an
 // independent unbiased image and the passes are averaged, so `--spp N` is N path-traced paths
 // per pixel in all (the paper's "initial PT paths") and `--time` renders whole passes until
-// the time is up. With `--redistribute indirect` (the default, as ERPT's) the seed paths with
+// the time is up. Lanes (`--lanes`, issue 38): the population is split into lanes, each with
+// its own members, buffers, command batch and share of every pass's pool (every lanes-th
+// position), adapted and resampled on its own; while the device runs one lane's batch the host
+// works on another's, so the device is not left waiting for the host at every iteration. A lane
+// is a PMC-ER population of its own over its share of the pool: the pass's image is the sum of
+// theirs, unbiased as each is. With `--redistribute indirect` (the default, as ERPT's) the seed paths with
 // at most one scattering vertex are deposited at their pixel and only the rest make members.
 #pragma once
 
@@ -53,6 +58,7 @@ struct PmcErOptions {
     uint32_t prepassSpp = 4;
     uint32_t stepsPerDispatch = 4;
     uint32_t birth = 0;              // gpu::PMC_ER_BIRTH_*
+    uint32_t lanes = 0;              // 0: auto (2 once each holds kMinLaneMembers, else 1)
 
     static PmcErOptions fromSettings(const RenderSettings& settings);
 };

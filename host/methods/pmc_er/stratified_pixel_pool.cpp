@@ -14,28 +14,50 @@ int bitsFor(int n) {
     return b;
 }
 
+// The even bits of v packed together: bit 2i to bit i.
+uint64_t compactEvenBits(uint64_t v) {
+    v &= 0x5555555555555555ULL;
+    v = (v | (v >> 1)) & 0x3333333333333333ULL;
+    v = (v | (v >> 2)) & 0x0f0f0f0f0f0f0f0fULL;
+    v = (v | (v >> 4)) & 0x00ff00ff00ff00ffULL;
+    v = (v | (v >> 8)) & 0x0000ffff0000ffffULL;
+    v = (v | (v >> 16)) & 0x00000000ffffffffULL;
+    return v;
+}
+
 // Morton index -> (x, y) on a 2^bx by 2^by grid: bits interleaved x, y, x, y, ... from the
 // lowest, the longer side's extra bits on top.
 glm::ivec2 demorton(uint64_t code, int bx, int by) {
-    int x = 0, y = 0, bit = 0;
-    for (int i = 0; i < std::max(bx, by); ++i) {
-        if (i < bx) x |= int((code >> bit++) & 1u) << i;
-        if (i < by) y |= int((code >> bit++) & 1u) << i;
-    }
-    return {x, y};
+    const int m = std::min(bx, by);
+    const uint64_t low = code & ((uint64_t(1) << (2 * m)) - 1);
+    uint64_t x = compactEvenBits(low), y = compactEvenBits(low >> 1);
+    const uint64_t high = code >> (2 * m);
+    if (bx > by) x |= high << m;
+    else y |= high << m;
+    return {int(x), int(y)};
 }
 
+// The low `bits` bits of v in reverse order (Warren, Hacker's Delight, sec. 7-1: swap halves,
+// then quarters, ...).
 uint64_t reverseBits(uint64_t v, int bits) {
-    uint64_t r = 0;
-    for (int i = 0; i < bits; ++i) r |= ((v >> i) & 1u) << (bits - 1 - i);
-    return r;
+    if (bits == 0) return 0;
+    v = ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
+    v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
+    v = ((v >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((v & 0x0f0f0f0f0f0f0f0fULL) << 4);
+    v = ((v >> 8) & 0x00ff00ff00ff00ffULL) | ((v & 0x00ff00ff00ff00ffULL) << 8);
+    v = ((v >> 16) & 0x0000ffff0000ffffULL) | ((v & 0x0000ffff0000ffffULL) << 16);
+    v = (v >> 32) | (v << 32);
+    return v >> (64 - bits);
 }
 
 }  // namespace
 
-StratifiedPixelPool::StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng)
-    : m_width(width), m_height(height), m_rounds(rounds), m_firstSample(firstSample), m_rng(rng.nextUint(), rng.nextUint()) {
+StratifiedPixelPool::StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng,
+                                         uint32_t lane, uint32_t lanes)
+    : m_width(width), m_height(height), m_rounds(rounds), m_firstSample(firstSample), m_rng(rng.nextUint(), rng.nextUint()),
+      m_lane(lane), m_lanes(lanes) {
     if (width < 1 || height < 1 || rounds < 1) throw Error("stratified pixel pool: empty");
+    if (lanes < 1 || lane >= lanes) throw Error("stratified pixel pool: lane out of range");
     m_bitsX = bitsFor(width);
     m_bitsY = bitsFor(height);
     m_shift = {int(m_rng.nextBelow(uint32_t(width))), int(m_rng.nextBelow(uint32_t(height)))};
@@ -49,8 +71,8 @@ bool StratifiedPixelPool::advance() {
             m_code = 0;
             m_shift = {int(m_rng.nextBelow(uint32_t(m_width))), int(m_rng.nextBelow(uint32_t(m_height)))};
         }
-        const glm::ivec2 p = demorton(reverseBits(m_code, m_bitsX + m_bitsY), m_bitsX, m_bitsY);
-        if (p.x < m_width && p.y < m_height) return true;
+        m_point = demorton(reverseBits(m_code, m_bitsX + m_bitsY), m_bitsX, m_bitsY);
+        if (m_point.x < m_width && m_point.y < m_height) return true;
         ++m_code;
     }
 }
@@ -59,9 +81,9 @@ std::vector<PoolSample> StratifiedPixelPool::next(uint32_t count) {
     std::vector<PoolSample> samples;
     samples.reserve(size_t(std::min<uint64_t>(count, remaining())));
     while (samples.size() < count && advance()) {
-        const glm::ivec2 c = demorton(reverseBits(m_code, m_bitsX + m_bitsY), m_bitsX, m_bitsY);
         ++m_code;
-        const int x = (c.x + m_shift.x) % m_width, y = (c.y + m_shift.y) % m_height;
+        if (m_seen++ % m_lanes != m_lane) continue;
+        const int x = (m_point.x + m_shift.x) % m_width, y = (m_point.y + m_shift.y) % m_height;
         samples.push_back({uint32_t(y) * uint32_t(m_width) + uint32_t(x), m_firstSample + m_round});
         ++m_used;
     }

@@ -35,16 +35,25 @@ struct PoolSample {
 
 class StratifiedPixelPool {
 public:
-    // Samples firstSample .. firstSample + rounds - 1 of every pixel.
-    StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng);
+    // Samples firstSample .. firstSample + rounds - 1 of every pixel. With `lanes` > 1, the
+    // share of lane `lane`: the positions l, l + lanes, l + 2 lanes, ... of the whole sequence
+    // (the lanes' pools, made from equal generators, share the shifts and split the positions;
+    // any run of a lane's consecutive positions is still spread over the image).
+    StratifiedPixelPool(int width, int height, uint32_t rounds, uint32_t firstSample, Pcg32& rng,
+                        uint32_t lane = 0, uint32_t lanes = 1);
 
-    uint64_t size() const { return uint64_t(m_rounds) * uint64_t(m_width) * uint64_t(m_height); }
+    // This lane's positions.
+    uint64_t size() const {
+        const uint64_t all = uint64_t(m_rounds) * uint64_t(m_width) * uint64_t(m_height);
+        return all / m_lanes + (m_lane < all % m_lanes ? 1 : 0);
+    }
     uint64_t remaining() const { return size() - m_used; }
     // The next min(count, remaining()) samples.
     std::vector<PoolSample> next(uint32_t count);
 
 private:
-    // Advances m_code (and the round) to the next code of the current round inside the image.
+    // Advances m_code (and the round) to the next code of the current round inside the image,
+    // and decodes it into m_point.
     bool advance();
 
     int m_width;
@@ -56,7 +65,11 @@ private:
     uint32_t m_round = 0;
     uint64_t m_code = 0;           // next Morton index of the round, before bit reversal
     glm::ivec2 m_shift{0};         // the round's toroidal shift
+    glm::ivec2 m_point{0};         // m_code's pixel before the shift (advance())
     uint64_t m_used = 0;
+    uint32_t m_lane = 0;
+    uint32_t m_lanes = 1;
+    uint64_t m_seen = 0;           // positions of every lane passed so far
 };
 
 }  // namespace pmcr

@@ -1,6 +1,6 @@
 // PMC-ER: makes new population members from path-traced samples (sec. 4.5 "Regeneration").
-// Invocation i turns record i into member seedSlots[i]: one of the record's light paths, chosen
-// with probability lum(c_s) / sum_s lum(c_s), carrying the whole sample's energy
+// Invocation i turns record i into member seedSlots[slotBase + i]: one of the record's light
+// paths, chosen with probability lum(c_s) / sum_s lum(c_s), carrying the whole sample's energy
 // E = seedScale * sum_s lum(c_s) (PMC-ER eq. 2, in units of e_d). In expectation path s then
 // carries lum(c_s) seedScale, the energy it would carry on its own (as ERPT's chain counts do).
 // With ERPT_FLAG_DEPOSIT_DIRECT (--redistribute indirect) the direct seed paths
@@ -41,7 +41,7 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     float seedEnergy = 0.0, directEnergy = 0.0;
     if (i < push.memberCount) {
-        uint member = seedSlots[i];
+        uint member = seedSlots[push.slotBase + i];
         PathRecord rec = records[i];
         Rng rng = rngCreate(hash3(push.seed ^ 0x9ce2e5u, hashCombine(push.pass, push.iteration), i));
         bool depositDirect = (push.flags & ERPT_FLAG_DEPOSIT_DIRECT) != 0u;
