@@ -168,7 +168,8 @@ TEST_F(PmcErTest, BadWeightOptionsAreErrors) {
 }
 
 // Lanes split the population and every pass's pool, and each is a function of the seed alone:
-// one lane or three give images of the same mean, and three lanes the same image twice.
+// three lanes give the same image twice, and their passes complete with every mutation counted
+// (the z-tests above render with two lanes).
 TEST_F(PmcErTest, LanesSplitThePopulation) {
     const Scene& scene = testScene("scenes/cornell-glass.glb");
     RenderSettings s = pmcErSettings(24, 8);

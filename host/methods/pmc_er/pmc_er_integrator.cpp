@@ -4,10 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
-#include <limits>
 
 #include "core/error.h"
 #include "core/random.h"
@@ -165,10 +165,9 @@ struct Lane {
                "pmc-er lane film"),
           filmReadback(session.context(), VkDeviceSize(pixels) * sizeof(gpu::SplatPixel), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                        "pmc-er lane film (readback)", vk::MemoryUsage::Readback),
-          records(session.context(), std::min(kRecordChunk, size_), "pmc-er path"),
+          records(session.context(), recordCapacity(), "pmc-er path"),
           ptWork(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er pool paths"),
-          work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er population"),
-          rng(passGenerator(0, 0, index_)) {
+          work(session.layout(), vk::DescriptorSet::Kind::Work, "pmc-er population") {
         film.fill(0);
         members.fill(0);
         records.bindTracer(ptWork, session, requests, &batches.counters());
@@ -185,6 +184,9 @@ struct Lane {
         work.bind(gpu::PMC_ER_BINDING_ACTIVE, active);
     }
 
+    // Pool paths traced at once: a regeneration of more slots traces them in chunks.
+    uint32_t recordCapacity() const { return std::min(kRecordChunk, size); }
+
     uint32_t index;
     uint32_t size;
     PathPopulation paths;
@@ -198,7 +200,7 @@ struct Lane {
     uint32_t pass = 0;          // the pass of the batch in flight
     uint32_t nextPass = 0;
     std::optional<StratifiedPixelPool> pool;  // this lane's share of the pass's pool
-    Pcg32 rng;                                // survival draws
+    Pcg32 rng;                                // survival draws (passGenerator, per pass)
     std::vector<uint32_t> slots;              // Regenerate: the slots the round fills
     uint32_t round = 0;                       // Regenerate: refill round
     uint32_t seedDispatches = 0;              // in this pass: keeps the seed kernel's numbers apart
@@ -312,7 +314,7 @@ RenderOutput PmcEr::render(RenderSession& session) {
         const uint32_t n = uint32_t(std::min<uint64_t>(lane.slots.size(), lane.pool->remaining()));
         if (n == 0) return false;
         std::vector<gpu::SampleRequest> req(n);
-        const uint32_t capacity = std::min(kRecordChunk, lane.size);
+        const uint32_t capacity = lane.recordCapacity();
         for (uint32_t first = 0; first < n; first += capacity) {
             const uint32_t count = std::min(capacity, n - first);
             std::vector<PoolSample> samples = lane.pool->next(count);

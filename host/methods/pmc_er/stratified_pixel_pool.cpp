@@ -14,7 +14,8 @@ int bitsFor(int n) {
     return b;
 }
 
-// The even bits of v packed together: bit 2i to bit i.
+// The even bits of v packed together: bit 2i to bit i (the inverse of the bit interleave by
+// masks and shifts, Warren, Hacker's Delight, sec. 7-2).
 uint64_t compactEvenBits(uint64_t v) {
     v &= 0x5555555555555555ULL;
     v = (v | (v >> 1)) & 0x3333333333333333ULL;
