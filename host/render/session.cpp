@@ -114,12 +114,15 @@ double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevi
 double RenderSession::targetBatchSeconds() const { return m_context.isCpuDevice() ? 0.25 : 0.1; }
 
 bool PassClock::startPass(uint32_t pass) {
-    if (m_session.shouldStop()) return false;
+    // The first pass starts even when a pre-pass used up the budget: a render always has an
+    // image (pssmlt over bdpt once returned none after its 256x256 bootstrap overran --time 2).
+    const bool first = m_completed == 0 && m_open.empty();
+    if (m_session.interrupted() || (!first && m_session.timeUp())) return false;
     const double limit = m_session.settings().timeLimit;
     const double now = m_session.elapsedSeconds();
     double longest = m_longest;
     for (const auto& [id, start] : m_open) longest = std::max(longest, now - start);
-    if (limit > 0.0 && (m_completed > 0 || !m_open.empty()) && now + longest > limit) return false;
+    if (limit > 0.0 && !first && now + longest > limit) return false;
     std::erase_if(m_open, [&](const auto& p) { return p.first == pass; });
     m_open.emplace_back(pass, now);
     return true;

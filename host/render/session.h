@@ -148,7 +148,8 @@ class PassClock {
 public:
     explicit PassClock(const RenderSession& session) : m_session(session) {}
     // Before each pass: false when the render should stop (Ctrl-C, time up, or a pass as long
-    // as the longest so far, completed or still open, would end past the time limit).
+    // as the longest so far, completed or still open, would end past the time limit). The
+    // first pass is refused only on Ctrl-C.
     // Passes may overlap (PMC-ER's lanes): each is named by its number.
     bool startPass(uint32_t pass = 0);
     // After a pass completed.

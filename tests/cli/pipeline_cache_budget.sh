@@ -93,5 +93,24 @@ check(s['rays_per_kernel_second'] > 0, "no rays per kernel second")
 PY
 done
 
+# A budget shorter than the pre-pass: the first pass still runs (a render always has an image),
+# and pssmlt's bootstrap and passes shrink to the budget (pssmlt_integrator.h: 4 bootstrap
+# samples per pixel and 4 steps a pass at 128x128 with 4096 chains, 16384 on a GPU).
+for method in erpt pmc-er mlt pssmlt pssmlt-over-pt; do
+    args=(--method "$method")
+    [ "$method" = pssmlt-over-pt ] && args=(--method pssmlt --over pt)
+    "$pmcr" render "$src/scenes/cornell-classic.glb" "${args[@]}" --width 128 --height 128 --time 0.001 -q \
+        -o "$tmp/short.exr" --no-png 2>"$tmp/stderr" >/dev/null ||
+        { fail "$method --time 0.001: exit status $?: $(cat "$tmp/stderr")"; continue; }
+    python3 - "$tmp/short.json" "$method" <<'PY' || fail "$method --time 0.001: no pass, or a pre-pass past the budget"
+import json, sys
+s = json.load(open(sys.argv[1])); method = sys.argv[2]; m = s['method_stats']
+ok = s['spp'] > 0 and m.get('passes', 1) >= 1
+if method.startswith('pssmlt'):
+    ok = ok and m['bootstrap_samples'] < 4 * 128 * 128 and m['steps_per_pass'] == 1
+if not ok: print(f"  {method}: spp {s['spp']}, {json.dumps(m)}"); sys.exit(1)
+PY
+done
+
 [ $failures -eq 0 ] || { echo "$failures failure(s)"; exit 1; }
 echo "pipeline cache and time accounting: all checks passed"

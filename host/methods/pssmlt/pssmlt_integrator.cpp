@@ -31,6 +31,7 @@ struct PssmltRun {
     double normalization;
     uint32_t chains;
     uint32_t stepsPerPass;
+    uint32_t fullStepsPerPass;  // one mutation per pixel; stepsPerPass is fewer under --time alone
     uint32_t passesPerBatch;
     uint32_t dimensions;
     float depositEnergy;
@@ -44,8 +45,9 @@ RenderOutput pssmltOutput(RenderSession& session, SplatFilm& splat, const Redist
     RenderOutput out;
     out.image = splat.resolve(run.depositEnergy);
     const int passes = splat.completedPasses();
-    out.cameraSamples = uint64_t(passes) * pixels;
-    out.samplesPerPixel = passes;
+    // Mutations per pixel: the passes, unless they were cut short (timedStepsPerPass).
+    out.samplesPerPixel = double(passes) * run.stepsPerPass / run.fullStepsPerPass;
+    out.cameraSamples = uint64_t(std::llround(out.samplesPerPixel * pixels));
     const Counters& c = session.counters();
     const uint64_t proposed = c.values[gpu::COUNTER_LARGE_PROPOSED] + c.values[gpu::COUNTER_SMALL_PROPOSED];
     const uint64_t accepted = c.values[gpu::COUNTER_LARGE_ACCEPTED] + c.values[gpu::COUNTER_SMALL_ACCEPTED];
@@ -120,6 +122,15 @@ uint64_t PssmltOptions::bootstrapPerDepth(uint32_t pixels) const {
     return bootstrapSpp > 0 ? uint64_t(bootstrapSpp) * pixels : kAutoBootstrapPerDepth;
 }
 
+bool PssmltOptions::timeBudgeted(const RenderSettings& s) { return s.timeLimit > 0.0 && s.spp == 0; }
+
+uint32_t PssmltOptions::timedStepsPerPass(uint32_t steps, uint32_t chains, double samplesPerSecond,
+                                          double timeLimit) {
+    const double fit = samplesPerSecond * kPassShareOfTime * timeLimit / double(std::max(chains, 1u));
+    if (!(fit >= 1.0)) return 1;
+    return uint32_t(std::min(fit, double(steps)));
+}
+
 Pssmlt::Pssmlt(const RenderSettings& settings) : m_options(PssmltOptions::fromSettings(settings)) {}
 
 RenderOutput Pssmlt::render(RenderSession& session) {
@@ -136,7 +147,7 @@ RenderOutput Pssmlt::render(RenderSession& session) {
 // whether the render was stopped.
 template <typename RunSteps, typename RecordSteps>
 uint64_t runPasses(RenderSession& session, SplatFilm& splat, RedistributionBatch& batches,
-                   const vk::DescriptorSet& work, float depositEnergy, uint32_t pixels, uint32_t spp,
+                   const vk::DescriptorSet& work, float depositEnergy, uint64_t pathsPerPass, uint32_t spp,
                    uint32_t chains, uint32_t stepsPerPass, uint32_t stepsPerDispatch, uint32_t together,
                    bool& interrupted, RunSteps runSteps, RecordSteps recordSteps) {
     uint64_t mutations = 0;
@@ -164,7 +175,7 @@ uint64_t runPasses(RenderSession& session, SplatFilm& splat, RedistributionBatch
             interrupted = clock.abandon();
         }
         if (interrupted) break;
-        completeRedistributionPass(session, splat, depositEnergy, pixels, pass + count - 1, spp, count);
+        completeRedistributionPass(session, splat, depositEnergy, pathsPerPass, pass + count - 1, spp, count);
         clock.passDone();
         pass += count;
     }
@@ -187,8 +198,11 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
         throw Error("pssmlt: " + std::to_string(chains) + " chains of " + std::to_string(dimensions) +
                     " random numbers need " + std::to_string(primaryBytes >> 20) +
                     " MiB (at most 1024); lower --chains or --max-depth");
-    // One pass: about one mutation per pixel.
-    const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
+    // One pass: about one mutation per pixel (fewer steps under --time alone, once the
+    // bootstrap has measured the device).
+    const uint32_t fullStepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
+    uint32_t stepsPerPass = fullStepsPerPass;
+    const bool budgeted = PssmltOptions::timeBudgeted(settings);
     const uint64_t bootstrapSamples = uint64_t(o.bootstrapSpp) * pixels;
     if (bootstrapSamples > std::numeric_limits<uint32_t>::max())
         throw Error("--bootstrap: more than 2^32 bootstrap samples; lower it");
@@ -234,7 +248,10 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     const uint32_t chunk = context.isCpuDevice() ? kBootstrapChunk : uint32_t(bootstrapSamples);
     const double bootstrapStart = session.elapsedSeconds();
     bool interrupted = false;
+    uint32_t taken = 0;  // bootstrap samples drawn: [0, taken)
     for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chunk) {
+        if (budgeted && taken > 0 && session.elapsedSeconds() >= PssmltOptions::kBootstrapShareOfTime * settings.timeLimit)
+            break;
         batches.begin();
         batch.bind(work);
         push.first = first;
@@ -242,15 +259,20 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
         push.itemsPerInvocation = ptItemsPerInvocation(context, push.count);
         batch.dispatch(bootstrapKernel, push, (push.count + push.itemsPerInvocation - 1) / push.itemsPerInvocation);
         batches.submit();
+        taken += push.count;
         interrupted = session.interrupted();
     }
     MetropolisStart start;
     if (!interrupted) {
-        std::vector<float> w = weights.download<float>(bootstrapSamples);
+        std::vector<float> w = weights.download<float>(taken);
         for (float& x : w) x *= float(pixels);
         start = chooseChainStarts(w, chains, settings.seed);
     }
-    session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
+    const double bootstrapSeconds = session.elapsedSeconds() - bootstrapStart;
+    session.addPrepassSeconds(bootstrapSeconds);
+    if (budgeted)
+        stepsPerPass = PssmltOptions::timedStepsPerPass(fullStepsPerPass, chains, taken / bootstrapSeconds,
+                                                        settings.timeLimit);
     const double normalization = start.normalization;
     // e_d: each pass's chains * steps deposits share b (the image's total luminance).
     const float depositEnergy = float(normalization / (double(chains) * stepsPerPass));
@@ -281,7 +303,8 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         starts.upload(start.samples);
         runChains(0, gpu::PSSMLT_FLAG_START);
-        mutations = runPasses(session, splat, batches, work, depositEnergy, pixels, spp, chains, stepsPerPass,
+        mutations = runPasses(session, splat, batches, work, depositEnergy,
+                              uint64_t(pixels) * stepsPerPass / fullStepsPerPass, spp, chains, stepsPerPass,
                               o.stepsPerDispatch, together, interrupted, [&](uint32_t steps) { runChains(steps, 0); },
                               [&](uint32_t steps) {
                                   push.flags = 0;
@@ -297,7 +320,7 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     session.progress().finish();
 
     return pssmltOutput(session, splat, batches,
-                        {"pt", bootstrapSamples, normalization, chains, stepsPerPass, together, dimensions,
+                        {"pt", taken, normalization, chains, stepsPerPass, fullStepsPerPass, together, dimensions,
                          depositEnergy, mutations});
 }
 
@@ -330,8 +353,10 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                     " random numbers and their subpaths need " +
                     std::to_string((primaryBytes + vertexBytes) >> 20) +
                     " MiB (at most 1024); lower --chains or --max-depth");
-    // One pass: about one mutation per pixel.
-    const uint32_t stepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
+    // One pass: about one mutation per pixel (fewer steps under --time alone, pssmlt only).
+    const uint32_t fullStepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
+    uint32_t stepsPerPass = fullStepsPerPass;
+    const bool budgeted = !multiplexed && PssmltOptions::timeBudgeted(settings);
     // mmlt: a pilot of kBootstrapPilotPerDepth samples of each depth, then the bootstrap's
     // samples allocated to the depths by the pilot (allocateBootstrapByDepth).
     const uint64_t mainSamples =
@@ -411,14 +436,21 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     struct BootstrapRange {
         uint32_t first, count, sampleOffset;
     };
-    const uint32_t stepsPerSubmission = std::max(1u, kBootstrapChunk / chains);
+    // (Under --time alone, a quarter as many: the bootstrap may stop after any submission.)
+    const uint32_t stepsPerSubmission = std::max(1u, (budgeted ? kBootstrapChunk / 4 : kBootstrapChunk) / chains);
     const double bootstrapStart = session.elapsedSeconds();
     bool interrupted = false;
-    // The weights of `ranges`, which cover [0, n); empty when interrupted.
+    uint64_t taken = 0;  // samples of the last bootstrap call
+    // The weights of `ranges`, which cover [0, n); empty when interrupted. Budgeted (pssmlt:
+    // one range from 0), it may stop early: the weights of [0, taken).
     auto bootstrap = [&](const std::vector<BootstrapRange>& ranges, uint64_t n) {
         size_t r = 0;
         uint32_t done = 0;  // of range r
+        taken = 0;
         while (r < ranges.size() && !interrupted) {
+            if (budgeted && taken > 0 &&
+                session.elapsedSeconds() >= PssmltOptions::kBootstrapShareOfTime * settings.timeLimit)
+                break;
             batches.begin();
             batch.bind(work);
             for (uint32_t k = 0; k < stepsPerSubmission && r < ranges.size(); ++k) {
@@ -428,13 +460,14 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                 push.flags = gpu::PSSMLT_FLAG_START | gpu::PSSMLT_FLAG_BOOTSTRAP;
                 recordStep();
                 done += push.count;
+                taken += push.count;
                 if (done == ranges[r].count) ++r, done = 0;
             }
             batches.submit();
             interrupted = session.interrupted();
         }
         std::vector<float> w;
-        if (!interrupted) w = weights.download<float>(n);
+        if (!interrupted) w = weights.download<float>(taken < n ? taken : n);
         for (float& x : w) x *= float(pixels);
         return w;
     };
@@ -481,7 +514,11 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
             std::sort(start.samples.begin(), start.samples.end());
         }
     }
-    session.addPrepassSeconds(session.elapsedSeconds() - bootstrapStart);
+    const double bootstrapSeconds = session.elapsedSeconds() - bootstrapStart;
+    session.addPrepassSeconds(bootstrapSeconds);
+    if (budgeted)
+        stepsPerPass = PssmltOptions::timedStepsPerPass(fullStepsPerPass, chains, taken / bootstrapSeconds,
+                                                        settings.timeLimit);
     // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator),
     // chooseChainStartsByStratum's b_hat.
     const double normalization = start.normalization;
@@ -514,7 +551,8 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     if (!start.samples.empty() && depositEnergy > 0.0f && std::isfinite(depositEnergy)) {
         starts.upload(start.samples);
         runChains(0, gpu::PSSMLT_FLAG_START);
-        mutations = runPasses(session, splat, batches, work, depositEnergy, pixels, spp, chains, stepsPerPass,
+        mutations = runPasses(session, splat, batches, work, depositEnergy,
+                              uint64_t(pixels) * stepsPerPass / fullStepsPerPass, spp, chains, stepsPerPass,
                               o.stepsPerDispatch, together, interrupted, [&](uint32_t steps) { runChains(steps, 0); },
                               [&](uint32_t steps) {
                                   push.flags = 0;
@@ -525,8 +563,9 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     }
     session.progress().finish();
     RenderOutput out = pssmltOutput(session, splat, batches,
-                                    {multiplexed ? nullptr : "bdpt", mainSamples, normalization, chains,
-                                     stepsPerPass, together, dimensions, depositEnergy, mutations});
+                                    {multiplexed ? nullptr : "bdpt", multiplexed ? mainSamples : taken,
+                                     normalization, chains, stepsPerPass, fullStepsPerPass, together, dimensions,
+                                     depositEnergy, mutations});
     if (multiplexed) {
         out.methodStats["bootstrap_pilot_samples"] = pilotSamples;
         out.methodStats["bootstrap_samples_per_depth"] = depthSamples;
