@@ -26,6 +26,7 @@ constexpr uint32_t kDispatchesPerBatch = 8;    // at most
 constexpr uint32_t kDispatchCapacity = 16384;  // camera samples per dispatch at most
 constexpr uint32_t kBatchesInFlight = 6;       // about 1.5 s of work on lavapipe
 constexpr uint64_t kMaxStepDraws = 1u << 22;   // eye paths in a grown step at most
+constexpr double kMaxOvershootSeconds = 0.2;   // --time: how far a step may end past the limit
 
 // Traces a step's two request lists, the pool draws and the members' mutations, with up to
 // kBatchesInFlight batches in flight (issue 38): queued lists are cut into batches in queue
@@ -402,8 +403,14 @@ RenderOutput PmcPt::render(RenderSession& session) {
         if (settings.timeLimit > 0.0 && perUnit > 0.0) {
             const double runningEnds =
                 std::max(session.elapsedSeconds(), double(units + running) * perUnit);
-            const double fit = (settings.timeLimit - runningEnds) / perUnit;
-            m = std::min<uint64_t>(m, uint64_t(std::max(0.0, std::floor(fit + 0.5))));
+            const double fit = std::max(0.0, (settings.timeLimit - runningEnds) / perUnit);
+            // The units that end nearest the limit, but at most kMaxOvershootSeconds past it (a
+            // unit, 8 spp at 256x256, takes 1.2 s on lavapipe: rounding to the nearest had
+            // `--time 2` write its image at 2.5-2.6 s, past the issue's T + 0.5; now it stops
+            // after one unit, at 1.3 s).
+            double whole = std::floor(fit);
+            if (fit - whole >= 0.5 && (whole + 1.0 - fit) * perUnit <= kMaxOvershootSeconds) whole += 1.0;
+            m = std::min<uint64_t>(m, uint64_t(whole));
         }
         return m;
     };
