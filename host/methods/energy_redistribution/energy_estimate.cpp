@@ -23,7 +23,12 @@ double estimateMeanLuminance(RenderSession& session, uint32_t spp) {
     push.rrDepth = s.rrDepth;
     const uint32_t pixels = film.pixelCount();
     const uint32_t chunk = session.context().isCpuDevice() ? 16384u : pixels;
+    // Under --time alone (issue 38: the pre-pass inside the budget), whole samples per pixel
+    // until the clock passes a tenth of the budget, at least one: e_d sets only how finely
+    // energy is dealt out, never what the chains deposit in expectation.
+    const bool timed = s.timeLimit > 0.0 && s.spp == 0;
     for (uint32_t pass = 0; pass < spp; ++pass) {
+        if (timed && pass > 0 && session.elapsedSeconds() >= kPrepassShareOfTime * s.timeLimit) break;
         for (uint32_t offset = 0; offset < pixels; offset += chunk) {
             vk::CommandBatch batch(session.layout(), &session.timer());
             batch.bind(session.scene().descriptorSet());

@@ -22,6 +22,7 @@ constexpr uint32_t kBootstrapChunk = 16384;             // bootstrap samples per
 // the depths whatever the pilot found (so that a depth the pilot saw dark still has samples).
 constexpr uint32_t kBootstrapPilotPerDepth = 512;
 constexpr double kBootstrapFloorShare = 0.25;
+constexpr uint32_t kMinTimedPerDepth = 256;  // mmlt under --time alone: bootstrap samples a depth at least
 constexpr VkDeviceSize kMaxPrimaryBytes = 1ull << 30;   // primary-sample storage
 
 // What a render did, for its statistics.
@@ -353,10 +354,12 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
                     " random numbers and their subpaths need " +
                     std::to_string((primaryBytes + vertexBytes) >> 20) +
                     " MiB (at most 1024); lower --chains or --max-depth");
-    // One pass: about one mutation per pixel (fewer steps under --time alone, pssmlt only).
+    // One pass: about one mutation per pixel (fewer steps under --time alone). Under --time
+    // alone pssmlt's bootstrap may stop early (`budgeted`); mmlt's is sized from its pilot.
     const uint32_t fullStepsPerPass = std::max(1u, uint32_t(std::lround(double(pixels) / chains)));
     uint32_t stepsPerPass = fullStepsPerPass;
-    const bool budgeted = !multiplexed && PssmltOptions::timeBudgeted(settings);
+    const bool timed = PssmltOptions::timeBudgeted(settings);
+    const bool budgeted = !multiplexed && timed;
     // mmlt: a pilot of kBootstrapPilotPerDepth samples of each depth, then the bootstrap's
     // samples allocated to the depths by the pilot (allocateBootstrapByDepth).
     const uint64_t mainSamples =
@@ -492,7 +495,17 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
             }
             means[d] /= double(P);
         }
-        depthSamples = allocateBootstrapByDepth(means, mainSamples, kBootstrapFloorShare);
+        // Under --time alone, as many as the pilot's rate fits into the bootstrap's share of
+        // the budget (at least kMinTimedPerDepth a depth): 16384 a depth took 1.8-2.0 s of
+        // `--time 2` on lavapipe at 320x180.
+        uint64_t main = mainSamples;
+        if (timed && !interrupted) {
+            const double rate = double(pilotSamples) / std::max(1e-6, session.elapsedSeconds() - bootstrapStart);
+            const double left = PssmltOptions::kBootstrapShareOfTime * settings.timeLimit - session.elapsedSeconds();
+            main = std::clamp<uint64_t>(uint64_t(std::max(0.0, rate * left)),
+                                        std::min<uint64_t>(mainSamples, uint64_t(kMinTimedPerDepth) * depths), mainSamples);
+        }
+        depthSamples = allocateBootstrapByDepth(means, main, kBootstrapFloorShare);
         std::vector<uint32_t> first(depths);
         ranges.clear();
         for (uint32_t d = 0, f = 0; d < depths; ++d) {
@@ -500,7 +513,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
             ranges.push_back({f, uint32_t(depthSamples[d]), (d << gpu::MMLT_DEPTH_SHIFT) + P - f});
             f += uint32_t(depthSamples[d]);
         }
-        const std::vector<float> w = interrupted ? std::vector<float>() : bootstrap(ranges, mainSamples);
+        const std::vector<float> w = interrupted ? std::vector<float>() : bootstrap(ranges, main);
         push.sampleOffset = 0;
         if (!interrupted) {
             start = chooseChainStartsByStratum(w, depthSamples, chains, settings.seed);
@@ -516,7 +529,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     }
     const double bootstrapSeconds = session.elapsedSeconds() - bootstrapStart;
     session.addPrepassSeconds(bootstrapSeconds);
-    if (budgeted)
+    if (timed)
         stepsPerPass = PssmltOptions::timedStepsPerPass(fullStepsPerPass, chains, taken / bootstrapSeconds,
                                                         settings.timeLimit);
     // mmlt: b is the sum over depths of each depth's mean weight (pbrt-v4 MLTIntegrator),
@@ -563,7 +576,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
     }
     session.progress().finish();
     RenderOutput out = pssmltOutput(session, splat, batches,
-                                    {multiplexed ? nullptr : "bdpt", multiplexed ? mainSamples : taken,
+                                    {multiplexed ? nullptr : "bdpt", taken,
                                      normalization, chains, stepsPerPass, fullStepsPerPass, together, dimensions,
                                      depositEnergy, mutations});
     if (multiplexed) {

@@ -62,8 +62,9 @@ struct PssmltOptions {
     // then the mean of fewer samples, their count set by the clock, not by their values), and a
     // pass is cut to the steps that take about kPassShareOfTime of the budget at the bootstrap's
     // rate, at least one (over bdpt on lavapipe a 256x256 bootstrap of 4 spp took 8.7 s and a
-    // pass of one mutation per pixel 2.6 s: `--time 2` had returned after 8.9 s). pssmlt only:
-    // mmlt's bootstrap, split over the depths, is a fixed size.
+    // pass of one mutation per pixel 2.6 s: `--time 2` had returned after 8.9 s). mmlt's
+    // bootstrap, split over the depths, does not stop early: its size is set from its pilot's
+    // rate to end at the same share.
     static constexpr double kBootstrapShareOfTime = 0.2;
     static constexpr double kPassShareOfTime = 0.1;
     static bool timeBudgeted(const RenderSettings& settings);
