@@ -113,6 +113,13 @@ double RenderSession::targetDispatchSeconds() const { return m_context.isCpuDevi
 
 double RenderSession::targetBatchSeconds() const { return m_context.isCpuDevice() ? 0.25 : 0.1; }
 
+bool RenderSession::queueAnotherBatch(double inFlightSeconds, double nextSeconds) const {
+    if (m_settings.timeLimit <= 0.0) return true;
+    const double left = m_settings.timeLimit - elapsedSeconds() - inFlightSeconds;  // after the one in flight
+    const double past = nextSeconds - left;  // how far past the limit the next one would end
+    return left > 0.0 && past < left && past <= kBatchOvershootSeconds;
+}
+
 bool PassClock::startPass(uint32_t pass) {
     // The first pass starts even when a pre-pass used up the budget: a render always has an
     // image (pssmlt over bdpt once returned none after its 256x256 bootstrap overran --time 2).

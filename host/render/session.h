@@ -104,6 +104,13 @@ public:
     // and well under any GPU watchdog.
     double targetDispatchSeconds() const;
     double targetBatchSeconds() const;
+    // Under --time, for a method that keeps two batches in flight: with one in flight that the
+    // device has just begun (about `inFlightSeconds` of work), whether to queue one more of
+    // about `nextSeconds`: only if that ends the render nearer the limit than stopping after
+    // the one in flight, and at most kBatchOvershootSeconds past it (issue 38: T + 0.5 for
+    // the image written). Always true without --time.
+    bool queueAnotherBatch(double inFlightSeconds, double nextSeconds) const;
+    static constexpr double kBatchOvershootSeconds = 0.25;
 
     // Integrators call this at every batch boundary with the camera samples taken so far and a
     // function that resolves the image so far: when a snapshot is due (settings.snapshotSeconds

@@ -152,6 +152,10 @@ void CommandBatch::submit() {
     m_inFlight = true;
 }
 
+bool CommandBatch::finished() const {
+    return !m_inFlight || vkGetFenceStatus(m_context.device(), m_fence) == VK_SUCCESS;
+}
+
 void CommandBatch::wait() {
     if (!m_inFlight) return;
     const bool alreadySignalled = vkGetFenceStatus(m_context.device(), m_fence) == VK_SUCCESS;

@@ -49,6 +49,8 @@ public:
     // a second batch recorded meanwhile: two in flight). wait() after submit() only.
     void submit();
     void wait();
+    // Whether the submission in flight has completed (its fence signalled), without waiting.
+    bool finished() const;
     // The last completed submission's span on the device in seconds, first dispatch's start to
     // last one's end, from timestamps (< 0 without them): what a batch cost the device, even
     // when the host came to wait for it late.

@@ -108,12 +108,16 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
         GatherSlot& slot = slots[turn % 2];
         GatherSlot& other = slots[(turn + 1) % 2];
         finishBatch(slot);  // (the other, newer batch goes on running)
-        // Under --time, no batch that would start after the limit: the one in flight, which
-        // the device has just begun, takes about as long as batches so far per sample. (Two in
-        // flight at the limit had `--time 2` write at 2.58 s on lavapipe.)
-        if (timed && other.pending && samples > 0 &&
-            session.elapsedSeconds() + double(other.samples) * gatherSeconds / double(samples) >= settings.timeLimit)
-            break;
+        // Under --time, another batch only if it ends the render nearer the limit (the one in
+        // flight, unless finished, is taken as just begun; both take about as long per sample
+        // as the batches so far). Two in flight at the limit had `--time 2` write at 2.58 s on
+        // lavapipe.
+        if (timed && samples > 0) {
+            const double perSample = gatherSeconds / double(samples);
+            const bool running = other.pending && !other.batch->finished();
+            const double next = double(running ? other.samples : slot.samples) * perSample;
+            if (!session.queueAnotherBatch(running ? double(other.samples) * perSample : 0.0, next)) break;
+        }
         session.snapshotIfDue(samples, [&] { return resolve(slot, other); });
         // A new photon pass: its map was shot and sorted while the passes before it were
         // gathered; the next one is shot now, ahead of this pass's gathers. (No batch in
