@@ -6,11 +6,12 @@
 
 namespace pmcr {
 
-void parallelFor(size_t count, size_t block, const std::function<void(size_t, size_t)>& body) {
+void parallelFor(size_t count, size_t block, const std::function<void(size_t, size_t)>& body, size_t maxThreads) {
     if (count == 0) return;
     block = std::max<size_t>(block, 1);
     const size_t blocks = (count + block - 1) / block;
-    const size_t threads = std::min<size_t>(blocks, std::max(1u, std::thread::hardware_concurrency()));
+    const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+    const size_t threads = std::min<size_t>(blocks, maxThreads > 0 ? std::min(maxThreads, cores) : cores);
     std::atomic<size_t> next{0};
     auto worker = [&]() {
         for (size_t b; (b = next.fetch_add(1)) < blocks;) body(b * block, std::min(count, (b + 1) * block));

@@ -11,8 +11,10 @@
 namespace pmcr {
 
 // Calls body(begin, end) over [0, count) in blocks of `block` items, on up to as many threads
-// as the machine has cores (one when count is a single block). Returns after all blocks.
-void parallelFor(size_t count, size_t block, const std::function<void(size_t begin, size_t end)>& body);
+// as the machine has cores, or `maxThreads` when not 0 (one when count is a single block).
+// Returns after all blocks.
+void parallelFor(size_t count, size_t block, const std::function<void(size_t begin, size_t end)>& body,
+                 size_t maxThreads = 0);
 
 // The sum of term(i) over [0, count): each block summed in order, then the blocks' sums in
 // order, so it does not depend on the number of threads.

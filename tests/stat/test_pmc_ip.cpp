@@ -37,6 +37,21 @@ TEST_F(PmcIpTest, SameSeedSameImageBitForBit) {
     EXPECT_EQ(samples, double(a.output.cameraSamples));
 }
 
+// The results are added and the requests written on several threads on a GPU (issue 38):
+// every pixel's results in request order, so the image is the same bit for bit for any count.
+TEST_F(PmcIpTest, HostThreadsSameImageBitForBit) {
+    const Scene& scene = testScene("scenes/cornell-glass.glb");
+    for (const char* method : {"pmc-ip", "pmc-ip-hi"}) {
+        RenderSettings s = pmcIpSettings(method, 128, 12);  // batches of several blocks
+        s.options["host-threads"] = "1";
+        auto one = renderForTest(scene, s);
+        s.options["host-threads"] = "3";
+        auto three = renderForTest(scene, s);
+        EXPECT_EQ(one.output.image.rgb, three.output.image.rgb) << method;
+        EXPECT_EQ(one.output.cameraSamples, three.output.cameraSamples) << method;
+    }
+}
+
 TEST_F(PmcIpTest, FurnaceGivesItsAnalyticValue) {
     for (const char* method : {"pmc-ip", "pmc-ip-direct"}) {
         const int depth = 3;

@@ -158,6 +158,11 @@ const std::vector<uint32_t>& ImagePlaneSampler::allocate(double u, double spp) {
 }
 
 void ImagePlaneSampler::addResult(uint32_t pixel, bool pilot, const glm::vec3& radiance) {
+    addPixelResult(pixel, pilot, radiance);
+    ++m_samplesTaken;
+}
+
+void ImagePlaneSampler::addPixelResult(uint32_t pixel, bool pilot, const glm::vec3& radiance) {
     const double y = luminance(radiance);
     m_sum[pixel] += glm::dvec3(radiance);
     m_count[pixel] += 1;
@@ -168,7 +173,6 @@ void ImagePlaneSampler::addResult(uint32_t pixel, bool pilot, const glm::vec3& r
         m_pilotLumSqSum[pixel] += y * y;
         m_pilotCount[pixel] += 1;
     }
-    ++m_samplesTaken;
 }
 
 Image ImagePlaneSampler::image() const {

@@ -116,6 +116,10 @@ public:
     // (an iteration's samples may come in after the next one is allocated).
     bool isPilot(uint32_t index) const { return m_allocations <= 1 || index < m_iterationPilots; }
     void addResult(uint32_t pixel, bool pilot, const glm::vec3& radiance);
+    // addResult without counting the sample: touches pixel `pixel`'s sums only, so results of
+    // different pixels may be added on several threads at once; countResults(n) then counts them.
+    void addPixelResult(uint32_t pixel, bool pilot, const glm::vec3& radiance);
+    void countResults(uint64_t n) { m_samplesTaken += n; }
     // The point of the pixel's sampler sequence that sample 0 of this iteration is: the samples
     // it had before the iteration.
     uint32_t sequenceStart(uint32_t pixel) const { return m_sequenceStart[pixel]; }

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/random.h"
 #include "methods/pm/pm_integrator.h"
 #include "methods/pt/pixel_order.h"
@@ -20,6 +21,16 @@ namespace pmcr {
 namespace {
 
 constexpr uint32_t kMaxRequestsInFlight = 1u << 20;  // per batch: 16 MiB of requests and results
+// The host's per-request work spread over the cores in blocks of this many results, or pixel
+// runs of requests (core/parallel.h).
+constexpr size_t kReduceBlock = 4096;
+constexpr size_t kRunBlock = 1024;
+
+// A pixel's next `count` samples from sample `index` of its iteration, at `offset` in a batch.
+struct Run {
+    uint32_t pixel, index, count;
+    size_t offset;
+};
 
 std::vector<MethodOption> pmcIpOptions(bool direct) {
     std::vector<MethodOption> options = {
@@ -29,6 +40,7 @@ std::vector<MethodOption> pmcIpOptions(bool direct) {
         {"epsilon", "0.01", "defensive weight: every pixel's mixture weight is at least epsilon / pixels"},
         {"min-spp", "1", "pilot samples every pixel gets in every iteration; they alone drive the adaptation"},
         {"variance-radius", "2", "a pixel's weight comes from its neighbours' pilot variance within this radius"},
+        {"host-threads", "0", "threads adding the results and writing the requests (0: 1 on a CPU device, whose kernels need the cores, else every core); the image is the same for any count"},
     };
     if (direct)
         options.push_back({"light-samples", "1", "light samples (and as many BSDF samples) per camera sample"});
@@ -79,6 +91,9 @@ PmcIp::PmcIp(const RenderSettings& settings, Estimator estimator)
     const int iterations = settings.optionInt("iterations", 0);
     if (iterations < 0) throw Error("--iterations: expected a count (0 = from --spp or --time)");
     m_iterations = uint32_t(iterations);
+    const int hostThreads = settings.optionInt("host-threads", 0);
+    if (hostThreads < 0 || hostThreads > 256) throw Error("--host-threads: expected 0..256 (0: from the device)");
+    m_hostThreads = uint32_t(hostThreads);
     if (estimator == Estimator::Direct) {
         const int n = settings.optionInt("light-samples", 1);
         if (n < 1 || n > 1024) throw Error("--light-samples: expected 1..1024");
@@ -219,6 +234,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // Host time spent adapting (alpha, DMS) and reducing results, to weigh against the GPU's.
     double adaptSeconds = 0.0;
     double reduceSeconds = 0.0;
+    double requestWriteSeconds = 0.0;  // writing the requests (host_request_seconds)
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
@@ -343,6 +359,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // request order (the same seed gives the same sums), and the sizer learns from its time on
     // the device (from when it could start: submitted, and the batch before it done).
     InFlightTimer inFlight;
+    // The per-request work (adding results, writing requests) on every core when the device is
+    // not the CPU (--host-threads 0): on lavapipe its threads took the cores from the kernels,
+    // and pmc-ip ran 15% slower (three pairs, cornell-glass 256x256, --spp 40).
+    const size_t hostThreads = m_hostThreads > 0 ? m_hostThreads : context.isCpuDevice() ? 1 : 0;
     double requestSeconds = 0.0;  // the device's, over the requests reduced
     auto finishBatch = [&](BatchSlot& slot) {
         if (!slot.pending) return;
@@ -367,21 +387,41 @@ RenderOutput PmcIp::render(RenderSession& session) {
             if (!done && !open.empty()) e = std::min(e, open.back().cut);
             return e;
         };
-        uint64_t event = nextEvent();
-        for (uint32_t k = 0; k < n; ++k) {
-            sampler.addResult(slot.list[k].pixel, slot.pilot[k] != 0, glm::vec3(results[k]));
-            if (pmcHi) {
-                // Each pixel's sum of its samples' final weights this iteration.
-                const float* a = &requestAlpha[size_t(k) * gpu::PMC_HI_MAX_COMPONENTS];
-                float* sum = &iterationSums[size_t(slot.list[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
-                float total = 0.0f;
-                for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
-                if (total > 0.0f) {
-                    for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
-                    sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
+        // Results [begin, end) added on the cores (a GPU's batches hold millions; issue 38). A
+        // batch holds each of its pixels' samples in one run (nextRequests), and a block takes
+        // the runs that begin in it, to their ends: every pixel's results are added in request
+        // order by one thread, the sums the same bit for bit as one thread's.
+        auto addResults = [&](uint32_t begin, uint32_t end) {
+            parallelFor(end - begin, kReduceBlock, [&](size_t blockBegin, size_t blockEnd) {
+                size_t k = begin + blockBegin, stop = begin + blockEnd;
+                while (k > begin && k < stop && slot.list[k].pixel == slot.list[k - 1].pixel) ++k;
+                while (stop < end && slot.list[stop].pixel == slot.list[stop - 1].pixel) ++stop;
+                for (; k < stop; ++k) {
+                    sampler.addPixelResult(slot.list[k].pixel, slot.pilot[k] != 0, glm::vec3(results[k]));
+                    if (pmcHi) {
+                        // Each pixel's sum of its samples' final weights this iteration.
+                        const float* a = &requestAlpha[k * gpu::PMC_HI_MAX_COMPONENTS];
+                        float* sum = &iterationSums[size_t(slot.list[k].pixel) * gpu::PMC_HI_ALPHA_STRIDE];
+                        float total = 0.0f;
+                        for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) total += a[c];
+                        if (total > 0.0f) {
+                            for (uint32_t c = 0; c < gpu::PMC_HI_MAX_COMPONENTS; ++c) sum[c] += a[c];
+                            sum[gpu::PMC_HI_MAX_COMPONENTS] += 1.0f;
+                        }
+                    }
                 }
-            }
-            if (++reduced >= event) {
+            }, hostThreads);
+            sampler.countResults(end - begin);
+        };
+        // In spans that end where settle() has something to do.
+        uint64_t event = nextEvent();
+        for (uint32_t k = 0; k < n;) {
+            const uint64_t toEvent = event > reduced ? event - reduced : 1;
+            const uint32_t end = toEvent < n - k ? uint32_t(k + toEvent) : n;
+            addResults(k, end);
+            reduced += end - k;
+            k = end;
+            if (reduced >= event) {
                 const auto settleStart = std::chrono::steady_clock::now();
                 settle();
                 settleSeconds += since(settleStart);
@@ -401,24 +441,42 @@ RenderOutput PmcIp::render(RenderSession& session) {
     // order (coherent rays), each pixel's samples the next points of its sequence. A batch ends
     // at an iteration's cut, so the batch before the cut can be reduced (and the next iteration
     // allocated) while the one after it runs.
+    std::vector<Run> runs;
     auto nextRequests = [&](BatchSlot& slot, uint64_t wanted) {
         slot.list.clear();
         slot.pilot.clear();
         for (Iteration& it : open) {
             if (issued >= it.end) continue;
             const uint64_t limit = issued < it.cut ? it.cut : it.end;
-            while (slot.list.size() < wanted && issued < limit) {
+            // The runs first (a pixel's next samples, at most what is wanted), then their
+            // requests written on the cores.
+            runs.clear();
+            size_t size = 0;
+            while (size < wanted && issued < limit) {
                 const uint32_t pixel = pixelOrder[it.next];
                 if (it.index >= it.counts[pixel]) {
                     ++it.next;
                     it.index = 0;
                     continue;
                 }
-                slot.list.push_back({pixel, it.start[pixel] + it.index, glm::vec2(0.0f)});
-                slot.pilot.push_back(it.index < it.pilots ? 1 : 0);
-                ++it.index;
-                ++issued;
+                const uint32_t count = uint32_t(std::min<uint64_t>(
+                    {it.counts[pixel] - it.index, wanted - size, limit - issued}));
+                runs.push_back({pixel, it.index, count, size});
+                size += count;
+                it.index += count;
+                issued += count;
             }
+            slot.list.resize(size);
+            slot.pilot.resize(size);
+            parallelFor(runs.size(), kRunBlock, [&](size_t begin, size_t end) {
+                for (size_t r = begin; r < end; ++r) {
+                    const Run& run = runs[r];
+                    for (uint32_t i = 0; i < run.count; ++i) {
+                        slot.list[run.offset + i] = {run.pixel, it.start[run.pixel] + run.index + i, glm::vec2(0.0f)};
+                        slot.pilot[run.offset + i] = run.index + i < it.pilots ? 1 : 0;
+                    }
+                }
+            }, hostThreads);
             slot.iteration = it.number;
             break;  // one iteration (and one side of its cut) per batch
         }
@@ -443,7 +501,9 @@ RenderOutput PmcIp::render(RenderSession& session) {
             if (!session.queueAnotherBatch(running ? double(other.list.size()) * perRequest : 0.0, next)) break;
         }
         const uint32_t units = sizer.units();
+        const auto requestStart = std::chrono::steady_clock::now();
         nextRequests(slot, std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch));
+        requestWriteSeconds += since(requestStart);
         if (slot.list.empty()) {
             // Nothing to issue until the batch in flight is in (its results may allocate the
             // next iteration); with none in flight, the render is done.
@@ -518,6 +578,7 @@ RenderOutput PmcIp::render(RenderSession& session) {
     out.methodStats["initial_spp"] = options.initialSpp;
     out.methodStats["host_adapt_seconds"] = adaptSeconds;
     out.methodStats["host_reduce_seconds"] = reduceSeconds;
+    out.methodStats["host_request_seconds"] = requestWriteSeconds;
     out.methodStats["spp_per_iteration"] = options.samplesPerIteration;
     out.methodStats["epsilon"] = options.epsilon;
     out.methodStats["min_spp"] = options.minSamples;

@@ -45,6 +45,7 @@ private:
     ImagePlaneOptions m_options;
     bool m_samplesPerIterationGiven = false;  // else sized to the device in render()
     uint32_t m_iterations = 0;  // adaptive iterations after the first; 0: from --spp or --time
+    uint32_t m_hostThreads = 0;  // --host-threads; 0: from the device
     uint32_t m_lightSamples = 1;
     PmcHiOptions m_hi;
     bool m_feedback = true;
