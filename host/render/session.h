@@ -110,7 +110,7 @@ public:
     // the one in flight, and at most kBatchOvershootSeconds past it (issue 38: T + 0.5 for
     // the image written). Always true without --time.
     bool queueAnotherBatch(double inFlightSeconds, double nextSeconds) const;
-    static constexpr double kBatchOvershootSeconds = 0.25;
+    static constexpr double kBatchOvershootSeconds = 0.15;
 
     // Integrators call this at every batch boundary with the camera samples taken so far and a
     // function that resolves the image so far: when a snapshot is due (settings.snapshotSeconds
