@@ -111,7 +111,8 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
         // Under --time, another batch only if it ends the render nearer the limit (the one in
         // flight, unless finished, is taken as just begun; both take about as long per sample
         // as the batches so far). Two in flight at the limit had `--time 2` write at 2.58 s on
-        // lavapipe.
+        // lavapipe. No second batch before the first has timed the device.
+        if (timed && samples == 0 && other.pending) finishBatch(other);
         if (timed && samples > 0) {
             const double perSample = gatherSeconds / double(samples);
             const bool running = other.pending && !other.batch->finished();

@@ -491,18 +491,24 @@ RenderOutput PmcIp::render(RenderSession& session) {
         BatchSlot& other = slots[(turn + 1) % 2];
         finishBatch(slot);  // its results are needed before its buffers are written again
         // Under --time, another batch only if it ends the render nearer the limit (the one in
-        // flight, unless finished, is taken as just begun; both take about as long per request
-        // as the batches so far; one rank alone: the ranks stop together otherwise).
-        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe.
+        // flight, unless finished, is taken as just begun; the next as many requests as it may
+        // hold; both about as long per request as the batches so far; one rank alone: the
+        // ranks stop together otherwise).
+        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe. No second batch before the
+        // first has timed the device (pm-pmc's first two, 0.8 s each, had ended at 2.54 s).
+        if (settings.timeLimit > 0.0 && reduced == 0 && other.pending && !session.comm().distributed())
+            finishBatch(other);
+        const uint32_t units = sizer.units();
+        const uint64_t wanted = std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch);
         if (settings.timeLimit > 0.0 && reduced > 0 && !session.comm().distributed()) {
             const double perRequest = requestSeconds / double(reduced);
             const bool running = other.pending && !other.batch->finished();
-            const double next = double(running ? other.list.size() : slot.list.size()) * perRequest;
-            if (!session.queueAnotherBatch(running ? double(other.list.size()) * perRequest : 0.0, next)) break;
+            if (!session.queueAnotherBatch(running ? double(other.list.size()) * perRequest : 0.0,
+                                           double(wanted) * perRequest))
+                break;
         }
-        const uint32_t units = sizer.units();
         const auto requestStart = std::chrono::steady_clock::now();
-        nextRequests(slot, std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch));
+        nextRequests(slot, wanted);
         requestWriteSeconds += since(requestStart);
         if (slot.list.empty()) {
             // Nothing to issue until the batch in flight is in (its results may allocate the
