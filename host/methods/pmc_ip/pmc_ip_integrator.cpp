@@ -494,12 +494,11 @@ RenderOutput PmcIp::render(RenderSession& session) {
         // flight, unless finished, is taken as just begun; the next as many requests as it may
         // hold; both about as long per request as the batches so far; one rank alone: the
         // ranks stop together otherwise).
-        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe. No second batch before the
-        // first has timed the device (pm-pmc's first two, 0.8 s each, had ended at 2.54 s).
-        if (settings.timeLimit > 0.0 && reduced == 0 && other.pending && !session.comm().distributed())
-            finishBatch(other);
+        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe. Until a batch has timed the
+        // device, batches of one dispatch (pm-pmc's first two, 0.8 s each, had ended at 2.54 s).
         const uint32_t units = sizer.units();
-        const uint64_t wanted = std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch);
+        const uint64_t wanted = std::min<uint64_t>(
+            capacity, uint64_t(units) * (settings.timeLimit > 0.0 && reduced == 0 ? 1 : dispatchesPerBatch));
         if (settings.timeLimit > 0.0 && reduced > 0 && !session.comm().distributed()) {
             const double perRequest = requestSeconds / double(reduced);
             const bool running = other.pending && !other.batch->finished();
