@@ -111,7 +111,7 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
         // Under --time, another batch only if it ends the render nearer the limit (the one in
         // flight, unless finished, is taken as just begun; both take about as long per sample
         // as the batches so far). Two in flight at the limit had `--time 2` write at 2.58 s on
-        // lavapipe. Until a batch has timed the device, batches of one dispatch.
+        // lavapipe.
         if (timed && samples > 0) {
             const double perSample = gatherSeconds / double(samples);
             const bool running = other.pending && !other.batch->finished();
@@ -144,7 +144,7 @@ RenderOutput PhotonMapper::render(RenderSession& session) {
         batch.bind(session.scene().descriptorSet());
         batch.bind(*slot.work);
         const double dispatchesPerBatch =
-            timed && samples == 0 ? 1.0 : std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds());
+            std::max(1.0, session.targetBatchSeconds() / session.targetDispatchSeconds());
         slot.samples = 0;
         for (int d = 0; d < int(dispatchesPerBatch) && offset < pixels; ++d) {
             const uint32_t count = std::min(sizer.units(), pixels - offset);

@@ -494,11 +494,11 @@ RenderOutput PmcIp::render(RenderSession& session) {
         // flight, unless finished, is taken as just begun; the next as many requests as it may
         // hold; both about as long per request as the batches so far; one rank alone: the
         // ranks stop together otherwise).
-        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe. Until a batch has timed the
-        // device, batches of one dispatch (pm-pmc's first two, 0.8 s each, had ended at 2.54 s).
+        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe. (The first two batches go
+        // untimed: one render of pm-pmc in about seven on room still wrote at 2.54-2.60 s, its
+        // first two 0.8 s each; smaller or serialised first batches cost it more idle time.)
         const uint32_t units = sizer.units();
-        const uint64_t wanted = std::min<uint64_t>(
-            capacity, uint64_t(units) * (settings.timeLimit > 0.0 && reduced == 0 ? 1 : dispatchesPerBatch));
+        const uint64_t wanted = std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch);
         if (settings.timeLimit > 0.0 && reduced > 0 && !session.comm().distributed()) {
             const double perRequest = requestSeconds / double(reduced);
             const bool running = other.pending && !other.batch->finished();
