@@ -49,6 +49,13 @@ TEST_F(PmcIpTest, HostThreadsSameImageBitForBit) {
         auto three = renderForTest(scene, s);
         EXPECT_EQ(one.output.image.rgb, three.output.image.rgb) << method;
         EXPECT_EQ(one.output.cameraSamples, three.output.cameraSamples) << method;
+        // Each result added once, whichever block takes its pixel's run: the per-pixel counts
+        // add up to the samples taken, and to the budget.
+        double counted = 0.0;
+        const Image& counts = three.output.diagnostics[1].second;
+        for (size_t i = 0; i < counts.pixelCount(); ++i) counted += counts.rgb[3 * i];
+        EXPECT_EQ(counted, double(three.output.cameraSamples)) << method;
+        EXPECT_NEAR(double(three.output.cameraSamples), 128.0 * 128.0 * 12.0, 0.01 * 128.0 * 128.0 * 12.0) << method;
     }
 }
 

@@ -493,10 +493,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
         // Under --time, another batch only if it ends the render nearer the limit (the one in
         // flight, unless finished, is taken as just begun; the next as many requests as it may
         // hold; both about as long per request as the batches so far; one rank alone: the
-        // ranks stop together otherwise).
-        // pmc-ip-hi had written `--time 2` at 2.54 s on lavapipe. (The first two batches go
-        // untimed: one render of pm-pmc in about seven on room still wrote at 2.54-2.60 s, its
-        // first two 0.8 s each; smaller or serialised first batches cost it more idle time.)
+        // ranks stop together otherwise). pmc-ip-hi had written `--time 2` at 2.54 s on
+        // lavapipe. The first two batches go untimed: one render of pm-pmc in about seven on
+        // room still writes at 2.54-2.60 s (its first two took 0.8 s each), but smaller or
+        // serialised first batches cost it more idle time.
         const uint32_t units = sizer.units();
         const uint64_t wanted = std::min<uint64_t>(capacity, uint64_t(units) * dispatchesPerBatch);
         if (settings.timeLimit > 0.0 && reduced > 0 && !session.comm().distributed()) {

@@ -125,6 +125,10 @@ uint64_t PssmltOptions::bootstrapPerDepth(uint32_t pixels) const {
 
 bool PssmltOptions::timeBudgeted(const RenderSettings& s) { return s.timeLimit > 0.0 && s.spp == 0; }
 
+bool PssmltOptions::bootstrapTimeUp(const RenderSession& session, uint64_t taken) {
+    return taken > 0 && session.elapsedSeconds() >= kBootstrapShareOfTime * session.settings().timeLimit;
+}
+
 uint32_t PssmltOptions::timedStepsPerPass(uint32_t steps, uint32_t chains, double samplesPerSecond,
                                           double timeLimit) {
     const double fit = samplesPerSecond * kPassShareOfTime * timeLimit / double(std::max(chains, 1u));
@@ -251,8 +255,7 @@ RenderOutput Pssmlt::renderOverPt(RenderSession& session) {
     bool interrupted = false;
     uint32_t taken = 0;  // bootstrap samples drawn: [0, taken)
     for (uint32_t first = 0; first < bootstrapSamples && !interrupted; first += chunk) {
-        if (budgeted && taken > 0 && session.elapsedSeconds() >= PssmltOptions::kBootstrapShareOfTime * settings.timeLimit)
-            break;
+        if (budgeted && PssmltOptions::bootstrapTimeUp(session, taken)) break;
         batches.begin();
         batch.bind(work);
         push.first = first;
@@ -451,9 +454,7 @@ RenderOutput renderChainsOverBdpt(RenderSession& session, const PssmltOptions& o
         uint32_t done = 0;  // of range r
         taken = 0;
         while (r < ranges.size() && !interrupted) {
-            if (budgeted && taken > 0 &&
-                session.elapsedSeconds() >= PssmltOptions::kBootstrapShareOfTime * settings.timeLimit)
-                break;
+            if (budgeted && PssmltOptions::bootstrapTimeUp(session, taken)) break;
             batches.begin();
             batch.bind(work);
             for (uint32_t k = 0; k < stepsPerSubmission && r < ranges.size(); ++k) {

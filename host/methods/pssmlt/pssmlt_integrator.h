@@ -68,6 +68,9 @@ struct PssmltOptions {
     static constexpr double kBootstrapShareOfTime = 0.2;
     static constexpr double kPassShareOfTime = 0.1;
     static bool timeBudgeted(const RenderSettings& settings);
+    // Under timeBudgeted, whether the bootstrap stops now: some samples taken, and the clock
+    // past its share of the budget.
+    static bool bootstrapTimeUp(const RenderSession& session, uint64_t taken);
     // Steps per pass under timeBudgeted: `steps` (one mutation per pixel) or fewer.
     static uint32_t timedStepsPerPass(uint32_t steps, uint32_t chains, double samplesPerSecond, double timeLimit);
 };
