@@ -33,6 +33,16 @@ CommandBatch::CommandBatch(const PipelineLayout& layout, GpuTimer* timer)
             vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
             throwVkError(result, "vkCreateQueryPool", __FILE__, __LINE__);
         }
+        try {
+            m_stamps = std::make_unique<Buffer>(m_context, VkDeviceSize(2 * kMaxTimedDispatches) * sizeof(uint64_t),
+                                                VK_BUFFER_USAGE_TRANSFER_DST_BIT, "timestamps",
+                                                MemoryUsage::Readback);
+        } catch (...) {
+            vkDestroyQueryPool(m_context.device(), m_queries, nullptr);
+            vkDestroyFence(m_context.device(), m_fence, nullptr);
+            vkFreeCommandBuffers(m_context.device(), m_context.commandPool(), 1, &m_cmd);
+            throw;
+        }
     }
 }
 
@@ -134,6 +144,14 @@ void CommandBatch::submitAndWait() {
 
 void CommandBatch::submit() {
     begin();
+    // The timestamps copied to mapped memory by the batch itself: vkGetQueryPoolResults would
+    // do too, but lavapipe's waits for the device to go idle first (Mesa 22.3, lvp_query.c),
+    // which with a second batch in flight meant waiting for that one too.
+    if (m_queries && !m_timed.empty()) {
+        barrier();
+        vkCmdCopyQueryPoolResults(m_cmd, m_queries, 0, uint32_t(2 * m_timed.size()), m_stamps->handle(), 0,
+                                  sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    }
     // Make every write of the batch visible to host reads of mapped memory.
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -168,10 +186,7 @@ void CommandBatch::wait() {
 
 double CommandBatch::collectTimes() {
     if (!m_queries || m_timed.empty()) return -1.0;
-    std::vector<uint64_t> stamps(2 * m_timed.size());
-    VK_CHECK(vkGetQueryPoolResults(m_context.device(), m_queries, 0, uint32_t(stamps.size()),
-                                   stamps.size() * sizeof(uint64_t), stamps.data(), sizeof(uint64_t),
-                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    const uint64_t* stamps = static_cast<const uint64_t*>(m_stamps->mapped());
     const uint32_t bits = m_context.timestampValidBits();
     const uint64_t mask = bits >= 64 ? ~0ull : ((1ull << bits) - 1);
     const double nsPerTick = m_context.limits().timestampPeriod;
@@ -179,7 +194,7 @@ double CommandBatch::collectTimes() {
         const uint64_t ticks = ((stamps[2 * i + 1] & mask) - (stamps[2 * i] & mask)) & mask;
         m_timer->add(m_timed[i], double(ticks) * nsPerTick * 1e-6);
     }
-    const uint64_t span = ((stamps.back() & mask) - (stamps.front() & mask)) & mask;
+    const uint64_t span = ((stamps[2 * m_timed.size() - 1] & mask) - (stamps[0] & mask)) & mask;
     m_timed.clear();
     return double(span) * nsPerTick * 1e-9;
 }

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,7 @@ private:
     // 2 kMaxTimedDispatches queries per batch, names in dispatch order.
     static constexpr uint32_t kMaxTimedDispatches = 1024;
     VkQueryPool m_queries = VK_NULL_HANDLE;
+    std::unique_ptr<Buffer> m_stamps;  // the batch's timestamps, copied there at its end (mapped)
     std::vector<std::string> m_timed;
     // Adds the completed batch's dispatch times to the timer; returns its span on the device in
     // seconds, first dispatch's start to last one's end (-1 without timestamps).
