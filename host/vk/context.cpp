@@ -434,6 +434,8 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
     vkFreeCommandBuffers(m_device, m_commandPool, 1, &cmd);
 }
 
+void Context::waitIdle() const { VK_CHECK(vkQueueWaitIdle(m_queue)); }
+
 const PipelineLayout& Context::layout() {
     if (!m_layout) m_layout = std::make_unique<PipelineLayout>(*this);
     return *m_layout;

@@ -73,6 +73,8 @@ public:
 
     // Records commands into a one-time command buffer, submits it and waits for completion.
     void submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    // Waits until every submission to the queue has completed (batches in flight included).
+    void waitIdle() const;
     VkCommandPool commandPool() const { return m_commandPool; }
     DeviceActivity& activity() { return m_activity; }
     const DeviceActivity& activity() const { return m_activity; }
