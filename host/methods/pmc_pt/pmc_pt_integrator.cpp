@@ -122,6 +122,8 @@ public:
     double secondsPerEyePath() const {
         return m_eyePaths > 0 ? m_deviceSeconds / double(m_eyePaths) : 0.0;
     }
+    // The eye paths traced so far (batches completed).
+    uint64_t eyePathsTraced() const { return m_eyePaths; }
 
 private:
     struct Lane {
@@ -393,16 +395,19 @@ RenderOutput PmcPt::render(RenderSession& session) {
     // The size in units of step `step`, decided while the step before it (`running` units, 0:
     // none) traces its members: the schedule's, at most what is left of --spp, and with --time
     // at most the units expected to end nearest the limit, from the device's time per eye path
-    // so far. The device works through its queue without pause, so the running step ends when
-    // every eye path so far is traced (and not before now). (The clock when the running step's
-    // pool is in says little: lavapipe may signal a batch's completion late, with the next
-    // ones.) 0 when the render is done.
+    // so far. The device works through its queue without pause, so the running step ends once
+    // the eye paths queued and not yet traced are, from now. (That used to be taken as every eye
+    // path so far at the device's rate from the clock's start, which left out the host's share
+    // of the clock: with batches reported done as they finish, `--time 3` wrote at 3.78 s once.)
+    // 0 when the render is done.
     auto nextStepUnits = [&](uint64_t step, uint64_t running) -> uint64_t {
         uint64_t m = std::min(scheduled(step), unitLimit - units - running);
         const double perUnit = tracer.secondsPerEyePath() * double(drawsPerStep);
         if (settings.timeLimit > 0.0 && perUnit > 0.0) {
+            const uint64_t queued = (units + running) * drawsPerStep;
+            const uint64_t traced = std::min(queued, tracer.eyePathsTraced());
             const double runningEnds =
-                std::max(session.elapsedSeconds(), double(units + running) * perUnit);
+                session.elapsedSeconds() + double(queued - traced) * tracer.secondsPerEyePath();
             const double fit = std::max(0.0, (settings.timeLimit - runningEnds) / perUnit);
             // The units that end nearest the limit, but at most kMaxOvershootSeconds past it (a
             // unit, 8 spp at 256x256, takes 1.2 s on lavapipe: rounding to the nearest had
