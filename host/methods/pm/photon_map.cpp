@@ -311,6 +311,10 @@ void PhotonMap::build(uint32_t pass) {
     const uint32_t hashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(set.photons.size())));
     const uint32_t causticHashSize = nextPowerOfTwo(std::max<uint64_t>(1024, 2 * uint64_t(caustics.size())));
     std::vector<glm::uvec2> causticCells;
+    // Room for both grids, so that appending the caustic one moves nothing (a first pass's
+    // 552k photons and 2^21 cells took 25 ms to move on lavapipe's 2-core machine).
+    set.sorted.reserve(set.photons.size() + caustics.size());
+    set.cellData.reserve(size_t(hashSize) + causticHashSize);
     buildPhotonGrid(set.photons, 2.0f * radius, hashSize, set.sorted, set.cellData);
     buildPhotonGrid(caustics, 2.0f * radius, causticHashSize, sortedCaustics, causticCells);
     for (glm::uvec2& cell : causticCells) cell.x += uint32_t(set.sorted.size());
