@@ -82,7 +82,7 @@ public:
     // Wall time spent building this render's pipelines and compiling them (the warm-up of
     // startClock): outside the clock, and what the on-disk pipeline cache saves.
     double pipelineSeconds() const;
-    // Seconds of the clock with a submission in flight on the device (vk::DeviceActivity).
+    // Seconds of the clock with a submission executing on the device (vk::DeviceActivity).
     double deviceBusySeconds() const;
     // Pre-passes (ERPT's mean-luminance pass, the Metropolis bootstraps) run on the clock and
     // count in --time; methods report their length here for the stats.

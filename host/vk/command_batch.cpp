@@ -47,7 +47,10 @@ CommandBatch::CommandBatch(const PipelineLayout& layout, GpuTimer* timer)
 }
 
 CommandBatch::~CommandBatch() {
-    if (m_inFlight) vkWaitForFences(m_context.device(), 1, &m_fence, VK_TRUE, UINT64_MAX);
+    if (m_inFlight) {  // (never waited for: its end is when the host saw it)
+        vkWaitForFences(m_context.device(), 1, &m_fence, VK_TRUE, UINT64_MAX);
+        m_context.activity().completed(m_submittedAt, false, -1.0);
+    }
     if (m_recording) vkEndCommandBuffer(m_cmd);
     if (m_queries) vkDestroyQueryPool(m_context.device(), m_queries, nullptr);
     vkDestroyFence(m_context.device(), m_fence, nullptr);

@@ -4,27 +4,53 @@
 
 namespace pmcr::vk {
 
-void DeviceActivity::submitted(Clock::time_point t) {
-    if (m_inFlight++ == 0) m_since = t;
+namespace {
+double seconds(DeviceActivity::Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+}  // namespace
+
+DeviceActivity::Clock::time_point DeviceActivity::endOf(const Submission& s, Clock::time_point start) {
+    if (!s.done) return std::max(start, Clock::now());
+    Clock::time_point end = s.seen;
+    if (s.alreadySignalled && s.deviceSeconds >= 0.0)
+        end = std::min(end, start + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(s.deviceSeconds)));
+    return std::max(end, start);
 }
 
-void DeviceActivity::completed(Clock::time_point submittedAt, bool alreadySignalled,
-                               double deviceSeconds) {
-    if (m_inFlight == 0) return;
-    Clock::time_point end = Clock::now();
-    if (alreadySignalled && deviceSeconds >= 0.0) {
-        // It ran from when it was submitted (or the one before it ended) for its device span.
-        const Clock::time_point start = std::max(submittedAt, m_lastEnd);
-        end = std::min(end, start + std::chrono::duration_cast<Clock::duration>(
-                                        std::chrono::duration<double>(deviceSeconds)));
+void DeviceActivity::submitted(Clock::time_point t) {
+    Submission s;
+    s.submitted = t;
+    m_open.push_back(s);
+}
+
+void DeviceActivity::completed(Clock::time_point submittedAt, bool alreadySignalled, double deviceSeconds) {
+    auto it = std::find_if(m_open.begin(), m_open.end(),
+                           [&](const Submission& s) { return !s.done && s.submitted == submittedAt; });
+    if (it == m_open.end()) return;
+    it->done = true;
+    it->seen = Clock::now();
+    it->alreadySignalled = alreadySignalled;
+    it->deviceSeconds = deviceSeconds;
+    // The submissions done from the oldest on are final: into m_busy.
+    while (!m_open.empty() && m_open.front().done) {
+        const Clock::time_point start = std::max(m_open.front().submitted, m_lastEnd);
+        const Clock::time_point end = endOf(m_open.front(), start);
+        m_busy += seconds(end - start);
+        m_lastEnd = end;
+        m_open.pop_front();
     }
-    end = std::max(end, m_since);
-    m_lastEnd = end;
-    if (--m_inFlight == 0) m_busy += std::chrono::duration<double>(end - m_since).count();
 }
 
 double DeviceActivity::busySeconds() const {
-    return m_busy + (m_inFlight > 0 ? std::chrono::duration<double>(Clock::now() - m_since).count() : 0.0);
+    double busy = m_busy;
+    Clock::time_point last = m_lastEnd;
+    for (const Submission& s : m_open) {
+        const Clock::time_point start = std::max(s.submitted, last);
+        const Clock::time_point end = endOf(s, start);
+        busy += seconds(end - start);
+        last = end;
+    }
+    return busy;
 }
 
 }  // namespace pmcr::vk

@@ -3,28 +3,39 @@
 #pragma once
 
 #include <chrono>
+#include <deque>
 
 namespace pmcr::vk {
 
-// Whether the device has work: the time with at least one submission in flight, summed, for the
-// stats' device_idle_seconds (a render's time minus this). A submission counts from
-// vkQueueSubmit until the host sees its fence signalled, or, when the fence had signalled
-// before the host looked, until the end its kernels' timestamps give (execution starts when
-// both it is submitted and the one before it is done).
+// Whether the device has work: the time with a submission executing, summed, for the stats'
+// device_idle_seconds (a render's time minus this). The queue runs its submissions in order,
+// so a submission executes from when it is submitted or the one before it ends, whichever is
+// later, until the host sees its fence signalled, or, when the fence had signalled before the
+// host looked, for the span its kernels' timestamps give. A submission the host has not looked
+// at yet counts as executing until now. (Counting only the time with some submission not yet
+// looked at missed the device's waits while the host worked with a finished batch unseen.)
 class DeviceActivity {
 public:
     using Clock = std::chrono::steady_clock;
     void submitted(Clock::time_point t);
-    // `deviceSeconds`: the submission's span on the device from timestamps (< 0: unknown).
+    // The submission made at `submittedAt` is done; `deviceSeconds`: its span on the device from
+    // timestamps (< 0: unknown).
     void completed(Clock::time_point submittedAt, bool alreadySignalled, double deviceSeconds);
-    // Seconds with work in flight up to now.
+    // Seconds with a submission executing up to now.
     double busySeconds() const;
 
 private:
-    int m_inFlight = 0;
-    Clock::time_point m_since{};
-    Clock::time_point m_lastEnd{};
-    double m_busy = 0.0;
+    struct Submission {
+        Clock::time_point submitted{};
+        Clock::time_point seen{};  // when the host saw it done
+        double deviceSeconds = -1.0;
+        bool done = false, alreadySignalled = false;
+    };
+    // When `s` ended, had it started at `start`.
+    static Clock::time_point endOf(const Submission& s, Clock::time_point start);
+    std::deque<Submission> m_open;  // in submission order, from the oldest not yet done
+    Clock::time_point m_lastEnd{};  // the end of the last submission folded into m_busy
+    double m_busy = 0.0;            // the submissions done before m_open's
 };
 
 }  // namespace pmcr::vk
