@@ -238,7 +238,8 @@ nlohmann::json resultsJson(const BenchReport& r, const std::vector<RunFiles>& fi
         m["wall_time"] = run.wallSeconds;
         // How busy the method kept the device (issue 38; render/stats.h).
         for (const char* key : {"device_busy", "device_idle_seconds", "gpu_milliseconds",
-                                "rays_per_kernel_second", "pipeline_seconds", "prepass_seconds"})
+                                "rays_per_kernel_second", "pipeline_seconds", "prepass_seconds",
+                                "queue_drains"})
             m[key] = statsNumber(run.stats, key);
         m["samples"] = run.samples;
         m["spp"] = run.spp;

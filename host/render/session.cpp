@@ -29,6 +29,8 @@ double RenderSession::pipelineSeconds() const {
     return m_context.pipelineSeconds() - m_pipelineSecondsAtStart + m_warmupSeconds;
 }
 
+uint64_t RenderSession::queueDrains() const { return m_context.queueDrains() - m_drainsAtClockStart; }
+
 double RenderSession::deviceBusySeconds() const {
     return m_context.activity().busySeconds() - m_busyAtClockStart;
 }
@@ -57,6 +59,7 @@ void RenderSession::startClock() {
     m_start = std::chrono::steady_clock::now();
     m_warmupSeconds += std::chrono::duration<double>(m_start - warmupStart).count();
     m_busyAtClockStart = m_context.activity().busySeconds();
+    m_drainsAtClockStart = m_context.queueDrains();
 }
 
 double RenderSession::elapsedSeconds() const {

@@ -84,6 +84,9 @@ public:
     double pipelineSeconds() const;
     // Seconds of the clock with a submission executing on the device (vk::DeviceActivity).
     double deviceBusySeconds() const;
+    // The host's own submissions that waited for batches in flight since the clock started
+    // (vk::Context::queueDrains): on a device whose memory the host cannot map, a staging copy.
+    uint64_t queueDrains() const;
     // Pre-passes (ERPT's mean-luminance pass, the Metropolis bootstraps) run on the clock and
     // count in --time; methods report their length here for the stats.
     void addPrepassSeconds(double seconds) { m_prepassSeconds += seconds; }
@@ -143,6 +146,7 @@ private:
     double m_pipelineSecondsAtStart = 0.0;  // the context's pipeline seconds before this render
     double m_warmupSeconds = 0.0;
     double m_busyAtClockStart = 0.0;
+    uint64_t m_drainsAtClockStart = 0;
     double m_prepassSeconds = 0.0;
 };
 

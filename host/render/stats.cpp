@@ -43,6 +43,7 @@ nlohmann::json renderStats(RenderSession& session, const RenderOutput& output,
     j["prepass_seconds"] = session.prepassSeconds();
     j["device_busy"] = samplingSeconds > 0.0 ? kernelSeconds / samplingSeconds : 0.0;
     j["device_idle_seconds"] = std::max(0.0, samplingSeconds - session.deviceBusySeconds());
+    j["queue_drains"] = session.queueDrains();
     j["rays_per_kernel_second"] = kernelSeconds > 0.0 ? double(session.counters().rays()) / kernelSeconds : 0.0;
     j["nan_samples_dropped"] = session.counters().nanDropped();
     j["interrupted"] = session.interrupted();

@@ -421,6 +421,7 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
         submit.commandBufferCount = 1;
         submit.pCommandBuffers = &cmd;
         const auto submittedAt = DeviceActivity::Clock::now();
+        if (m_activity.inFlight() > 0) ++m_queueDrains;
         VK_CHECK(vkQueueSubmit(m_queue, 1, &submit, fence));
         m_activity.submitted(submittedAt);
         VK_CHECK(vkWaitForFences(m_device, 1, &fence, VK_TRUE, UINT64_MAX));

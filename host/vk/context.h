@@ -77,6 +77,9 @@ public:
     void waitIdle() const;
     VkCommandPool commandPool() const { return m_commandPool; }
     DeviceActivity& activity() { return m_activity; }
+    // submitAndWait()s (staging copies, fills) made while batches were in flight: each waited
+    // for those batches too (a fence covers every submission before it), draining the queue.
+    uint64_t queueDrains() const { return m_queueDrains; }
     const DeviceActivity& activity() const { return m_activity; }
     // The on-disk pipeline cache every kernel is created through (vk/pipeline_cache.h).
     VkPipelineCache pipelineCache() const;
@@ -119,6 +122,7 @@ private:
     std::vector<std::string> m_messages;
 
     DeviceActivity m_activity;
+    uint64_t m_queueDrains = 0;
     mutable std::unique_ptr<PipelineCache> m_pipelineCache;
     double m_pipelineSeconds = 0.0;
     std::unique_ptr<PipelineLayout> m_layout;

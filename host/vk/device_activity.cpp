@@ -41,6 +41,10 @@ void DeviceActivity::completed(Clock::time_point submittedAt, bool alreadySignal
     }
 }
 
+size_t DeviceActivity::inFlight() const {
+    return size_t(std::count_if(m_open.begin(), m_open.end(), [](const Submission& s) { return !s.done; }));
+}
+
 double DeviceActivity::busySeconds() const {
     double busy = m_busy;
     Clock::time_point last = m_lastEnd;

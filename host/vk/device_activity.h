@@ -23,6 +23,8 @@ public:
     void completed(Clock::time_point submittedAt, bool alreadySignalled, double deviceSeconds);
     // Seconds with a submission executing up to now.
     double busySeconds() const;
+    // Submissions not yet seen done.
+    size_t inFlight() const;
 
 private:
     struct Submission {

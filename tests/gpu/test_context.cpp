@@ -75,6 +75,39 @@ TEST_F(ContextTest, TimestampsMeasureDispatches) {
     EXPECT_GT(timer.totals().at("tests/smoke").milliseconds, 0.0);
 }
 
+// Two batches in flight: each gets its own dispatch times (copied to mapped memory by the batch:
+// lavapipe's vkGetQueryPoolResults waits for the whole device), and a submission of the host's
+// own made meanwhile, which waits for them too, is counted as a queue drain.
+TEST_F(ContextTest, BatchesInFlightKeepTheirTimesAndAWaitBehindThemIsADrain) {
+    if (!context().timestampsSupported()) GTEST_SKIP() << "device has no compute timestamps";
+    vk::GpuTimer timer(context());
+    vk::Kernel kernel(layout(), "tests/smoke");
+    std::vector<uint32_t> in(4096, 1u);
+    auto inBuf = storage(in);
+    auto outBuf = zeros(in.size() * 4);
+    auto other = zeros(64);
+    vk::DescriptorSet work(layout(), vk::DescriptorSet::Kind::Work, "in-flight work");
+    work.bind(0, inBuf);
+    work.bind(1, outBuf);
+    vk::CommandBatch first(layout(), &timer), second(layout(), &timer);
+    uint32_t count = 4096;
+    for (vk::CommandBatch* b : {&first, &second}) {
+        b->bind(work);
+        for (int i = 0; i < 2; ++i) b->dispatch(kernel, count, count);
+        b->submit();
+    }
+    const uint64_t drains = context().queueDrains();
+    other.fill(0);  // a submitAndWait behind the two
+    EXPECT_EQ(context().queueDrains(), drains + 1);
+    first.wait();
+    second.wait();
+    EXPECT_GT(first.lastDeviceSeconds(), 0.0);
+    EXPECT_GT(second.lastDeviceSeconds(), 0.0);
+    EXPECT_EQ(timer.totals().at("tests/smoke").dispatches, 4u);
+    other.fill(0);  // nothing in flight: no drain
+    EXPECT_EQ(context().queueDrains(), drains + 1);
+}
+
 }  // namespace
 }  // namespace pmcr::test
 

@@ -198,8 +198,10 @@ RenderOutput PmcIp::render(RenderSession& session) {
         auxiliary.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
         iterationSums.assign(size_t(pixels) * gpu::PMC_HI_ALPHA_STRIDE, 0.0f);
         for (vk::Buffer& a : alphaStart) {
+            // Written at every iteration's cut, with batches in flight: mapped (through a
+            // staging copy it would wait for them; issue 38).
             a = vk::Buffer(context, VkDeviceSize(pixels) * gpu::PMC_HI_MAX_COMPONENTS * sizeof(float),
-                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha");
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "pmc-ip-hi starting alpha", vk::MemoryUsage::Upload);
             a.fill(0);
         }
         for (BatchSlot& slot : slots) {
