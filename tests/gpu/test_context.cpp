@@ -1,6 +1,7 @@
 // The Vulkan core: device selection, a dispatch round trip, buffer transfers, validation.
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <numeric>
 
 #include "gpu_test.h"
@@ -10,7 +11,30 @@
 namespace pmcr::test {
 namespace {
 
-class ContextTest : public GpuTest {};
+class ContextTest : public GpuTest {
+protected:
+    // tests/smoke over kSmokeItems items of 1, for batches to dispatch: its kernel and work set.
+    static constexpr uint32_t kSmokeItems = 4096;
+    void makeSmoke() {
+        m_kernel = std::make_unique<vk::Kernel>(layout(), "tests/smoke");
+        m_in = storage(std::vector<uint32_t>(kSmokeItems, 1u));
+        m_out = zeros(kSmokeItems * 4);
+        m_work = std::make_unique<vk::DescriptorSet>(layout(), vk::DescriptorSet::Kind::Work, "smoke work");
+        m_work->bind(0, m_in);
+        m_work->bind(1, m_out);
+    }
+    // `dispatches` dispatches of the smoke kernel recorded into `batch`.
+    void recordSmoke(vk::CommandBatch& batch, int dispatches) {
+        batch.bind(*m_work);
+        uint32_t count = kSmokeItems;
+        for (int i = 0; i < dispatches; ++i) batch.dispatch(*m_kernel, count, count);
+    }
+
+private:
+    std::unique_ptr<vk::Kernel> m_kernel;
+    vk::Buffer m_in, m_out;
+    std::unique_ptr<vk::DescriptorSet> m_work;
+};
 
 TEST_F(ContextTest, ChoosesAUsableDevice) {
     EXPECT_FALSE(context().deviceName().empty());
@@ -57,18 +81,10 @@ TEST_F(ContextTest, StorageLimitIsEnforcedWithNamedBuffer) {
 
 TEST_F(ContextTest, TimestampsMeasureDispatches) {
     if (!context().timestampsSupported()) GTEST_SKIP() << "device has no compute timestamps";
+    makeSmoke();
     vk::GpuTimer timer(context());
-    vk::Kernel kernel(layout(), "tests/smoke");
-    std::vector<uint32_t> in(4096, 1u);
-    auto inBuf = storage(in);
-    auto outBuf = zeros(in.size() * 4);
-    vk::DescriptorSet work(layout(), vk::DescriptorSet::Kind::Work, "timer work");
-    work.bind(0, inBuf);
-    work.bind(1, outBuf);
     vk::CommandBatch batch(layout(), &timer);
-    batch.bind(work);
-    uint32_t count = 4096;
-    for (int i = 0; i < 3; ++i) batch.dispatch(kernel, count, count);
+    recordSmoke(batch, 3);
     batch.submitAndWait();
     ASSERT_EQ(timer.totals().count("tests/smoke"), 1u);
     EXPECT_EQ(timer.totals().at("tests/smoke").dispatches, 3u);
@@ -80,20 +96,12 @@ TEST_F(ContextTest, TimestampsMeasureDispatches) {
 // own made meanwhile, which waits for them too, is counted as a queue drain.
 TEST_F(ContextTest, BatchesInFlightKeepTheirTimesAndAWaitBehindThemIsADrain) {
     if (!context().timestampsSupported()) GTEST_SKIP() << "device has no compute timestamps";
+    makeSmoke();
     vk::GpuTimer timer(context());
-    vk::Kernel kernel(layout(), "tests/smoke");
-    std::vector<uint32_t> in(4096, 1u);
-    auto inBuf = storage(in);
-    auto outBuf = zeros(in.size() * 4);
     auto other = zeros(64);
-    vk::DescriptorSet work(layout(), vk::DescriptorSet::Kind::Work, "in-flight work");
-    work.bind(0, inBuf);
-    work.bind(1, outBuf);
     vk::CommandBatch first(layout(), &timer), second(layout(), &timer);
-    uint32_t count = 4096;
     for (vk::CommandBatch* b : {&first, &second}) {
-        b->bind(work);
-        for (int i = 0; i < 2; ++i) b->dispatch(kernel, count, count);
+        recordSmoke(*b, 2);
         b->submit();
     }
     const uint64_t drains = context().queueDrains();
